@@ -13,6 +13,8 @@ int main(int argc, char** argv) {
   int status = 0;
   // The one registration place for subcommands.
   setup_info_command(app, status);
+  setup_render_command(app, status);
+  setup_diff_command(app, status);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -1,0 +1,35 @@
+// Reader for LAMMPS / LIGGGHTS text dumps (`dump custom`, `dump atom`): any number of
+// frames, streamed one at a time (ITEM: TIMESTEP / TIME / UNITS / NUMBER OF ATOMS /
+// BOX BOUNDS / ATOMS).
+//
+// Positions: x y z, else unwrapped xu yu zu, else scaled xs ys zs (then xsu ysu zsu),
+// converted with the box (triclinic too); the other position sets become extra columns.
+// z may be absent (2D). radius (LIGGGHTS) or diameter (radius = diameter / 2); without
+// either every radius is 0.5. vx vy [vz] -> velocity. id, type; a string `element` column
+// names the types. Every other column (mass, ix, c_..., f_..., v_...) is an extra column.
+// A triclinic box (BOX BOUNDS xy xz yz ...) is kept as its bounding box plus the tilts.
+#pragma once
+#include <string>
+#include <vector>
+
+#include "engine/core/line_reader.hpp"
+#include "engine/core/particle_reader.hpp"
+
+namespace grainflow::core {
+
+class LammpsDumpReader final : public ParticleReader {
+public:
+  explicit LammpsDumpReader(std::string path);
+  bool next(ParticleFrame& frame) override;
+  const std::string& path() const override { return in_.path(); }
+  std::string_view format() const override { return "lammps-dump"; }
+
+  static constexpr double kDefaultRadius = 0.5;
+
+private:
+  LineReader in_;
+  std::vector<std::string_view> tokens_;
+  std::vector<std::string> element_names_;
+};
+
+}  // namespace grainflow::core

@@ -1,0 +1,28 @@
+// The common interface of the particle-file readers (LAMMPS/LIGGGHTS dumps, XYZ) used by
+// `grainflow render FILE`: frames are streamed one at a time, so a multi-gigabyte
+// multi-frame file is never held in memory.
+#pragma once
+#include <memory>
+#include <string>
+#include <string_view>
+
+#include "engine/core/particle_frame.hpp"
+
+namespace grainflow::core {
+
+class ParticleReader {
+public:
+  virtual ~ParticleReader() = default;
+  // Reads the next frame into `frame` (overwriting it); false at the end of the file.
+  // Malformed input throws grainflow::Error naming file:line and what was expected.
+  virtual bool next(ParticleFrame& frame) = 0;
+  virtual const std::string& path() const = 0;
+  virtual std::string_view format() const = 0;  // "xyz" or "lammps-dump"
+};
+
+// Opens `path` with the reader its content calls for: a first non-blank line starting
+// with "ITEM:" is a LAMMPS/LIGGGHTS text dump, a first line holding only an integer is
+// (extended) XYZ. Anything else (including gzip data) throws grainflow::Error.
+std::unique_ptr<ParticleReader> open_particle_file(const std::string& path);
+
+}  // namespace grainflow::core

@@ -1,0 +1,55 @@
+// The contact law of a DEM run, composed at run time from a normal, a tangential and a
+// cohesion sub-model (like LAMMPS GRANULAR's gran_sub_mod_*), each declaring its share of
+// the per-contact history. The one registration place is make_contact_law().
+#pragma once
+#include <array>
+#include <cstddef>
+#include <memory>
+
+#include "engine/dem/contact_kinematics.hpp"
+#include "engine/dem/contact_params.hpp"
+#include "engine/dem/neighbor_list.hpp"
+#include "engine/dem/particle_state.hpp"
+
+namespace grainflow::dem {
+
+// Type of a contact partner: group 0, group 1, or a wall. Parameters are per type pair.
+constexpr int kWallType = 2;
+inline int type_pair(int a, int b) { return 3 * a + b; }
+
+// Everything a force pass reads or writes; one pass over a range of particles.
+struct ForcePass {
+  Particles* p = nullptr;
+  NeighborList* list = nullptr;
+  const Box* box = nullptr;
+  double* wall_hist = nullptr;          // 6 × history per particle
+  std::uint8_t* wall_flags = nullptr;   // 6 per particle (NeighborList::k* bits)
+  const std::uint8_t* wall_near = nullptr;  // per particle: bit w set if wall w may be reached
+  double dt = 0.0;
+  bool update = true;                   // false: evaluate only, history untouched
+};
+
+class ContactLaw {
+public:
+  virtual ~ContactLaw() = default;
+  virtual int history_size() const = 0;
+  // Largest reach of the cohesion sub-model beyond contact [m] (0 without cohesion).
+  virtual double cohesion_range() const = 0;
+  // Pair forces of the pairs owned by particles [i0, i1) into list->pair_force; also
+  // writes each owner's sums over its own pairs (ascending j): force into p->f and
+  // Σ n × F_t into p->t (the caller adds the partners' side and multiplies by R_i).
+  virtual void pair_pass(const ForcePass& fp, std::size_t i0, std::size_t i1) const = 0;
+  // Wall forces of particles [i0, i1), added to p->f / p->t and to wall_sum[w][3].
+  virtual void wall_pass(const ForcePass& fp, std::size_t i0, std::size_t i1, double wall_sum[6][3]) const = 0;
+  // One contact, for tests and diagnostics. Returns false when out of range.
+  virtual bool evaluate(int type_pair, const ContactKinematics& k, double* hist, bool update,
+                        ContactForce& out) const = 0;
+};
+
+// per_type[type_pair(a, b)] for a, b ∈ {0, 1} and b = kWallType; m_eff_pair[...] is the
+// reduced mass used to turn a restitution into a damping rate (Hooke).
+std::unique_ptr<ContactLaw> make_contact_law(const ContactModelSpec& spec,
+                                             const std::array<ContactParams, 9>& per_type,
+                                             const std::array<double, 9>& m_eff_pair);
+
+}  // namespace grainflow::dem

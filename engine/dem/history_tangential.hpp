@@ -1,0 +1,88 @@
+// Cundall–Strack tangential spring with shear history, parameterised exactly as LAMMPS
+// pair_style gran/hooke/history (kt, γt, μ, dampflag): the shear displacement accumulates
+// v_t·dt, is rotated into the current tangent plane, and when |F_t| > μ|F_n| both the force
+// and the stored displacement are rescaled (LAMMPS's rule, damping term included).
+#pragma once
+#include <cmath>
+
+#include "engine/dem/contact_kinematics.hpp"
+#include "engine/dem/contact_params.hpp"
+
+namespace grainflow::dem {
+
+struct HistoryTangential {
+  static constexpr bool kNeedsMass = true;
+  static constexpr int kHistory = 3;  // shear displacement vector [m]
+  struct Params {
+    double kt = 0, gamma_t = 0, mu = 0;
+  };
+  static Params make(const ContactParams& p, double m_eff_pair) {
+    Params q;
+    q.kt = p.kt;
+    q.mu = p.mu;
+    if (!p.damp_flag) {
+      q.gamma_t = 0.0;
+    } else if (p.gamma_t >= 0.0) {
+      q.gamma_t = p.gamma_t;
+    } else {
+      const double gn = p.gamma_n >= 0.0 ? p.gamma_n : hooke_gamma_from_restitution(p.k1, p.e, m_eff_pair);
+      q.gamma_t = 0.5 * gn;
+    }
+    return q;
+  }
+  // fn: signed normal force of the normal sub-model; writes the tangential force on i.
+  static void force(const Params& q, const ContactKinematics& k, double fn, double* s, bool update,
+                    double ft[3]) {
+    const double* n = k.n;
+    const double* vt = k.vt;
+    if (update) {
+      s[0] += vt[0] * k.dt;
+      s[1] += vt[1] * k.dt;
+      s[2] += vt[2] * k.dt;
+    }
+    // |shear| is only tested against zero: its square gives the same answer without a sqrt.
+    const double shrmag2 = s[0] * s[0] + s[1] * s[1] + s[2] * s[2];
+    if (update) {
+      const double rsht = s[0] * n[0] + s[1] * n[1] + s[2] * n[2];
+      s[0] -= rsht * n[0];
+      s[1] -= rsht * n[1];
+      s[2] -= rsht * n[2];
+    }
+    const double md = k.m_eff * q.gamma_t;
+    ft[0] = -(q.kt * s[0] + md * vt[0]);
+    ft[1] = -(q.kt * s[1] + md * vt[1]);
+    ft[2] = -(q.kt * s[2] + md * vt[2]);
+    const double fs2 = ft[0] * ft[0] + ft[1] * ft[1] + ft[2] * ft[2];
+    const double fmax = q.mu * std::fabs(fn);
+    // Sticking contacts skip the sqrt; near the cap the exact test |F_t| > μ|F_n| decides.
+    if (fs2 < 0.999 * fmax * fmax) return;
+    const double fs = std::sqrt(fs2);
+    if (fs > fmax) {
+      if (shrmag2 != 0.0) {
+        const double ratio = fmax / fs;
+        if (update && q.kt > 0.0) {
+          const double c = md / q.kt;
+          for (int a = 0; a < 3; ++a) s[a] = ratio * (s[a] + c * vt[a]) - c * vt[a];
+        }
+        ft[0] *= ratio;
+        ft[1] *= ratio;
+        ft[2] *= ratio;
+      } else {
+        ft[0] = ft[1] = ft[2] = 0.0;
+      }
+    }
+  }
+};
+
+// Frictionless contacts: no tangential force, no history.
+struct NoTangential {
+  static constexpr bool kNeedsMass = false;
+  static constexpr int kHistory = 0;
+  struct Params {};
+  static Params make(const ContactParams&, double) { return {}; }
+  static void force(const Params&, const ContactKinematics&, double, double*, bool, double ft[3]) {
+    ft[0] = ft[1] = ft[2] = 0.0;
+  }
+};
+
+}  // namespace grainflow::dem

@@ -1,0 +1,451 @@
+#include "engine/dem/simulation.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <numbers>
+#include <string>
+
+#include "engine/core/error.hpp"
+#include "engine/core/rng.hpp"
+#include "engine/dem/time_step.hpp"
+
+namespace grainflow::dem {
+
+namespace {
+
+constexpr std::size_t kChunk = 512;  // fixed work unit: results independent of thread count
+
+std::string num(double v) {
+  char b[64];
+  std::snprintf(b, sizeof b, "%.9g", v);
+  return b;
+}
+
+std::string vec(const Vec3& v) { return "(" + num(v.x()) + ", " + num(v.y()) + ", " + num(v.z()) + ")"; }
+
+double group_mass(const GroupConfig& g) {
+  return 4.0 / 3.0 * std::numbers::pi * g.radius * g.radius * g.radius * g.density;
+}
+
+}  // namespace
+
+Simulation::Simulation(Config cfg) : cfg_(std::move(cfg)) { setup(); }
+Simulation::Simulation(Config cfg, Restore) : cfg_(std::move(cfg)) {}
+Simulation::~Simulation() = default;
+Simulation::Simulation(Simulation&&) noexcept = default;
+Simulation& Simulation::operator=(Simulation&&) noexcept = default;
+
+void Simulation::setup() {
+  configure();
+  place_particles();
+}
+
+void Simulation::configure() {
+  const Config& c = cfg_;
+  // ---- groups and contact parameters
+  if (c.groups.empty() || c.groups.size() > 2)
+    throw Error("dem: groups has " + std::to_string(c.groups.size()) + " entries; 1 or 2 are allowed");
+  for (std::size_t g = 0; g < c.groups.size(); ++g) {
+    const std::string where = "groups[" + std::to_string(g) + "]";
+    if (!(c.groups[g].radius > 0.0))
+      throw Error("dem: " + where + ".radius = " + num(c.groups[g].radius) + " m; it must be > 0");
+    if (!(c.groups[g].density > 0.0))
+      throw Error("dem: " + where + ".density = " + num(c.groups[g].density) + " kg/m3; it must be > 0");
+    validate(c.groups[g].contact, c.model, where + ".contact");
+  }
+  if (c.mixed_contact) validate(*c.mixed_contact, c.model, "mixed_contact");
+  const int ng = static_cast<int>(c.groups.size());
+  std::array<ContactParams, 9> per{};
+  std::array<double, 9> meff{};
+  double mg[2];
+  for (int g = 0; g < 2; ++g) mg[g] = group_mass(c.groups[std::min(g, ng - 1)]);
+  for (int a = 0; a < 2; ++a) {
+    const GroupConfig& ga = c.groups[std::min(a, ng - 1)];
+    for (int b = 0; b < 2; ++b) {
+      const GroupConfig& gb = c.groups[std::min(b, ng - 1)];
+      per[type_pair(a, b)] = a == b || ng == 1 ? ga.contact : (c.mixed_contact ? *c.mixed_contact : mix(ga.contact, gb.contact));
+      meff[type_pair(a, b)] = mg[a] * mg[b] / (mg[a] + mg[b]);
+    }
+    // Walls: the group's own parameters; a damping rate derived from e refers to a pair
+    // of two equal particles, as LAMMPS's single γn does.
+    per[type_pair(a, kWallType)] = ga.contact;
+    meff[type_pair(a, kWallType)] = 0.5 * mg[a];
+  }
+  law_ = make_contact_law(c.model, per, meff);
+
+  // ---- time step (Eq. 2.23) and stability limit
+  double tc_min = 1e300, lim = 1e300;
+  for (int a = 0; a < ng; ++a)
+    for (int b = 0; b <= ng; ++b) {
+      const int tb = b == ng ? kWallType : b;
+      const ContactParams& q = per[type_pair(a, tb)];
+      const double mu = tb == kWallType ? mg[a] : mg[a] * mg[b] / (mg[a] + mg[b]);
+      double tc, kmax;
+      if (c.model.normal == NormalKind::Walton) {
+        tc = walton_collision_time(mu, q.k1, q.e);
+        kmax = q.k1 / (q.e * q.e);
+      } else {
+        const double gn = q.gamma_n >= 0.0 ? q.gamma_n : hooke_gamma_from_restitution(q.k1, q.e, meff[type_pair(a, tb)]);
+        tc = hooke_collision_time(mu, q.k1, gn);
+        kmax = q.k1;
+      }
+      if (tc > 0.0) tc_min = std::min(tc_min, tc);
+      lim = std::min(lim, leapfrog_stability_limit(mu, kmax));
+      if (c.model.tangential != TangentialKind::None) lim = std::min(lim, leapfrog_stability_limit(2.0 / 7.0 * mu, q.kt));
+    }
+  dt_limit_ = lim;
+  if (c.dt > 0.0) {
+    if (c.dt > dt_limit_)
+      throw Error("dem: dt = " + num(c.dt) + " s is above the stability limit " + num(dt_limit_) +
+                  " s of the stiffest contact spring (2·sqrt(m_red/k)); use dt ≤ " + num(dt_limit_) +
+                  " s or dt = 0 to derive it from steps_per_collision (Eq. 2.23)");
+    dt_ = c.dt;
+  } else if (c.dt == 0.0) {
+    if (c.steps_per_collision < 1)
+      throw Error("dem: steps_per_collision = " + std::to_string(c.steps_per_collision) + "; it must be ≥ 1 (40–60 advised)");
+    dt_ = tc_min / c.steps_per_collision;
+    if (dt_ > dt_limit_)
+      throw Error("dem: steps_per_collision = " + std::to_string(c.steps_per_collision) + " gives dt = " + num(dt_) +
+                  " s above the stability limit " + num(dt_limit_) + " s; use more steps per collision");
+  } else {
+    throw Error("dem: dt = " + num(c.dt) + " s; it must be > 0, or 0 to use Eq. 2.23");
+  }
+
+  // ---- box
+  for (int a = 0; a < 3; ++a) {
+    box_.lo[a] = c.box.lo[a];
+    box_.hi[a] = c.box.hi[a];
+    box_.periodic[a] = c.box.periodic[a];
+    if (!(c.box.hi[a] > c.box.lo[a]))
+      throw Error("dem: box.hi " + vec(c.box.hi) + " must exceed box.lo " + vec(c.box.lo) + " on every axis");
+  }
+  box_.finalize();
+  for (int w = 0; w < 6; ++w) {
+    box_.wall[w] = !box_.periodic[w / 2] && !(w == 5 && c.box.open_top);
+    const Vec3& u = c.box.wall_velocity[w];
+    if (u[w / 2] != 0.0)
+      throw Error("dem: box.wall_velocity[" + std::to_string(w) + "] = " + vec(u) +
+                  " has a component normal to the wall; only in-plane velocities are allowed");
+    for (int a = 0; a < 3; ++a) box_.wall_vel[w][a] = u[a];
+  }
+
+}
+
+void Simulation::place_particles() {
+  const Config& c = cfg_;
+  const int ng = static_cast<int>(c.groups.size());
+  // ---- particles
+  const std::size_t n = c.particles.size();
+  p_.resize(n);
+  final_radius_.assign(n, 0.0);
+  if (c.growth_steps > 0 && !(c.growth_start > 0.0 && c.growth_start <= 1.0))
+    throw Error("dem: growth_start = " + num(c.growth_start) + "; the starting radius fraction must be in (0, 1]");
+  const double g0 = c.growth_steps > 0 ? c.growth_start : 1.0;
+  double rmax = 0.0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const ParticleInit& pi = c.particles[i];
+    if (pi.group < 0 || pi.group >= ng)
+      throw Error("dem: particles[" + std::to_string(i) + "].group = " + std::to_string(pi.group) + "; allowed 0.." +
+                  std::to_string(ng - 1));
+    const GroupConfig& g = c.groups[pi.group];
+    const double rf = pi.radius > 0.0 ? pi.radius : g.radius;
+    if (!(rf > 0.0) || !std::isfinite(rf))
+      throw Error("dem: particles[" + std::to_string(i) + "].radius = " + num(rf) + " m; it must be > 0");
+    const double r = g0 * rf;
+    for (int a = 0; a < 3; ++a) {
+      const double x = pi.x[a];
+      const bool inside = std::isfinite(x) && x >= box_.lo[a] && (x < box_.hi[a] || (a == 2 && c.box.open_top));
+      if (!inside)
+        throw Error("dem: particles[" + std::to_string(i) + "] at " + vec(pi.x) + " m is outside the box " + vec(c.box.lo) +
+                    " – " + vec(c.box.hi));
+      if (box_.wall[2 * a] && x - box_.lo[a] < r)
+        throw Error("dem: particles[" + std::to_string(i) + "] at " + vec(pi.x) + " (radius " + num(r) +
+                    " m) overlaps the wall at " + "xyz"[a] + " = " + num(box_.lo[a]));
+      if (box_.wall[2 * a + 1] && box_.hi[a] - x < r)
+        throw Error("dem: particles[" + std::to_string(i) + "] at " + vec(pi.x) + " (radius " + num(r) +
+                    " m) overlaps the wall at " + "xyz"[a] + " = " + num(box_.hi[a]));
+      p_.x[3 * i + a] = x;
+      p_.v[3 * i + a] = pi.v[a];
+      p_.w[3 * i + a] = pi.omega[a];
+    }
+    p_.radius[i] = r;
+    final_radius_[i] = rf;
+    p_.mass[i] = 4.0 / 3.0 * std::numbers::pi * rf * rf * rf * g.density;
+    p_.inv_mass[i] = 1.0 / p_.mass[i];
+    p_.inv_inertia[i] = 1.0 / (0.4 * p_.mass[i] * rf * rf);
+    p_.group[i] = static_cast<std::uint8_t>(pi.group);
+    rmax = std::max(rmax, rf);
+  }
+  skin_ = c.skin < 0.0 ? 0.4 * rmax : c.skin;
+  if (!std::isfinite(skin_)) throw Error("dem: skin = " + num(c.skin) + " m; it must be finite and ≥ 0");
+
+  list_.history_size = law_->history_size();
+  wall_hist_.assign(6 * n * law_->history_size(), 0.0);
+  wall_flags_.assign(6 * n, 0);
+  rebuild();
+  // Overlapping initial positions are a configuration error, not something to blow apart.
+  for (std::size_t i = 0; i < n; ++i)
+    for (std::uint32_t q = list_.first[i]; q < list_.first[i + 1]; ++q) {
+      const std::uint32_t j = list_.partner[q];
+      const double* sh = box_.shift[list_.shift[q]];
+      double d2 = 0.0;
+      for (int a = 0; a < 3; ++a) {
+        const double d = p_.x[3 * j + a] + sh[a] - p_.x[3 * i + a];
+        d2 += d * d;
+      }
+      const double rs = p_.radius[i] + p_.radius[j];
+      if (d2 < rs * rs)
+        throw Error("dem: particles[" + std::to_string(i) + "] and particles[" + std::to_string(j) +
+                    "] overlap (centre distance " + num(std::sqrt(d2)) + " m < sum of radii " + num(rs) +
+                    " m); initial positions must not overlap");
+    }
+  // Forces at t = 0 for the first (half) kick; like LAMMPS's setup, history is not updated.
+  compute_forces(false, false);
+}
+
+void Simulation::rebuild() {
+  build_neighbor_list(list_, p_, box_, skin_, law_->cohesion_range(), cfg_.neighbor);
+  need_rebuild_ = false;
+  update_wall_near();
+}
+
+void Simulation::update_wall_near() {
+  // Walls each particle may reach before the next rebuild (it moves < skin/2 from its
+  // position at the build); walls with live history stay marked so it gets cleared.
+  wall_near_.assign(p_.n, 0);
+  const double reach = law_->cohesion_range() + skin_;
+  for (std::size_t i = 0; i < p_.n; ++i) {
+    std::uint8_t m = 0;
+    for (int w = 0; w < 6; ++w) {
+      if (!box_.wall[w]) continue;
+      const int a = w / 2;
+      const double x = list_.xref[3 * i + a];
+      const double dist = w % 2 == 0 ? x - box_.lo[a] : box_.hi[a] - x;
+      if (dist < p_.radius[i] + reach || wall_flags_[6 * i + w] != 0) m |= static_cast<std::uint8_t>(1u << w);
+    }
+    wall_near_[i] = m;
+  }
+}
+
+void Simulation::compute_forces(bool update, bool then_integrate) {
+  const std::size_t n = p_.n;
+  const std::size_t nchunks = (n + kChunk - 1) / kChunk;
+  chunk_wall_.assign(nchunks * 18, 0.0);
+  chunk_disp_.assign(nchunks, 0.0);
+  const double kick = started_ ? dt_ : 0.5 * dt_;
+  const double dt = dt_;
+  ForcePass fp;
+  fp.p = &p_;
+  fp.list = &list_;
+  fp.box = &box_;
+  fp.wall_hist = wall_hist_.data();
+  fp.wall_flags = wall_flags_.data();
+  fp.wall_near = wall_near_.data();
+  fp.dt = dt_;
+  fp.update = update;
+  const double g[3] = {cfg_.gravity.x(), cfg_.gravity.y(), cfg_.gravity.z()};
+  Particles& P = p_;
+  const NeighborList& L = list_;
+  const ContactLaw& law = *law_;
+
+#pragma omp parallel if (nchunks > 1)
+  {
+#pragma omp for schedule(static)
+    for (std::size_t c = 0; c < nchunks; ++c) law.pair_pass(fp, c * kChunk, std::min(n, (c + 1) * kChunk));
+
+#pragma omp for schedule(static)
+    for (std::size_t c = 0; c < nchunks; ++c) {
+      const std::size_t i0 = c * kChunk, i1 = std::min(n, (c + 1) * kChunk);
+      // Each particle sums its pairs in a fixed order (own pairs by ascending j in the pair
+      // pass, then pairs where it is j by ascending i): independent of the thread count.
+      for (std::size_t i = i0; i < i1; ++i) {
+        double f0 = 0, f1 = 0, f2 = 0, t0 = 0, t1 = 0, t2 = 0;
+        for (std::uint32_t k = L.rfirst[i]; k < L.rfirst[i + 1]; ++k) {
+          const std::uint32_t q = L.rpair[k];
+          // Branch-free: inactive slots hold finite stale values, multiplied by zero.
+          const double a = static_cast<double>(L.flags[q] & NeighborList::kActive);
+          const double* pf = &L.pair_force[std::size_t(q) * 6];
+          f0 -= a * pf[0]; f1 -= a * pf[1]; f2 -= a * pf[2];
+          t0 += a * pf[3]; t1 += a * pf[4]; t2 += a * pf[5];
+        }
+        // Own pairs were summed by the pair pass (ascending j); torque R_i Σ (n × F_t).
+        const double ri = P.radius[i];
+        double* f = &P.f[3 * i];
+        double* t = &P.t[3 * i];
+        f[0] += f0; f[1] += f1; f[2] += f2;
+        t[0] = ri * (t[0] + t0); t[1] = ri * (t[1] + t1); t[2] = ri * (t[2] + t2);
+      }
+      double ws[6][3] = {};
+      law.wall_pass(fp, i0, i1, ws);
+      std::copy(&ws[0][0], &ws[0][0] + 18, &chunk_wall_[c * 18]);
+      for (std::size_t i = i0; i < i1; ++i) {
+        const double m = P.mass[i];
+        double* f = &P.f[3 * i];
+        f[0] += m * g[0]; f[1] += m * g[1]; f[2] += m * g[2];
+      }
+      // Fused with the next step's kick and drift while the chunk is in cache (the same
+      // operations, in the same order, as integrate()).
+      if (then_integrate) chunk_disp_[c] = kick_drift(P, L, i0, i1, kick, dt);
+    }
+  }
+  if (then_integrate) finish_integrate();
+  for (int w = 0; w < 6; ++w) wall_force_[w].setZero();
+  for (std::size_t c = 0; c < nchunks; ++c)
+    for (int w = 0; w < 6; ++w)
+      for (int a = 0; a < 3; ++a) wall_force_[w][a] += chunk_wall_[c * 18 + 3 * w + a];
+}
+
+double Simulation::kick_drift(Particles& P, const NeighborList& L, std::size_t i0, std::size_t i1, double kick,
+                              double dt) {
+  double dmax = 0.0;
+  for (std::size_t i = i0; i < i1; ++i) {
+    const double ki = kick * P.inv_mass[i], kr = kick * P.inv_inertia[i];
+    const double* f = &P.f[3 * i];
+    const double* t = &P.t[3 * i];
+    double* v = &P.v[3 * i];
+    double* x = &P.x[3 * i];
+    double* w = &P.w[3 * i];
+    v[0] += ki * f[0]; v[1] += ki * f[1]; v[2] += ki * f[2];
+    x[0] += dt * v[0]; x[1] += dt * v[1]; x[2] += dt * v[2];
+    w[0] += kr * t[0]; w[1] += kr * t[1]; w[2] += kr * t[2];
+    const double* xr = &L.xref[3 * i];
+    const double d0 = x[0] - xr[0], d1 = x[1] - xr[1], d2 = x[2] - xr[2];
+    dmax = std::max(dmax, d0 * d0 + d1 * d1 + d2 * d2);
+  }
+  return dmax;
+}
+
+void Simulation::finish_integrate() {
+  double dmax = 0.0;
+  for (double d : chunk_disp_) dmax = std::max(dmax, d);
+  const double half = 0.5 * skin_;
+  need_rebuild_ = dmax > half * half;
+  started_ = true;
+}
+
+void Simulation::integrate() {
+  const std::size_t n = p_.n;
+  const std::size_t nchunks = (n + kChunk - 1) / kChunk;
+  chunk_disp_.assign(nchunks, 0.0);
+  // Leap-frog, Eq. 2.19: v_{n+1/2} = v_{n−1/2} + F_n/m Δt; r_{n+1} = r_n + v_{n+1/2} Δt.
+  // The velocities given at t = 0 are full-step values: the first kick is a half kick.
+  const double kick = started_ ? dt_ : 0.5 * dt_;
+  const double dt = dt_;
+  Particles& P = p_;
+  const NeighborList& L = list_;
+#pragma omp parallel for schedule(static) if (nchunks > 1)
+  for (std::size_t c = 0; c < nchunks; ++c)
+    chunk_disp_[c] = kick_drift(P, L, c * kChunk, std::min(n, (c + 1) * kChunk), kick, dt);
+  finish_integrate();
+}
+
+void Simulation::grow_radii() {
+  // Radii of step step_+1; the table is rebuilt because the search distances changed.
+  const double frac = cfg_.growth_start + (1.0 - cfg_.growth_start) * static_cast<double>(step_ + 1) /
+                                              static_cast<double>(cfg_.growth_steps);
+  for (std::size_t i = 0; i < p_.n; ++i) p_.radius[i] = step_ + 1 >= cfg_.growth_steps ? final_radius_[i] : frac * final_radius_[i];
+  need_rebuild_ = true;
+}
+
+void Simulation::step(std::uint64_t n) {
+  if (n == 0) return;
+  integrate();
+  for (std::uint64_t s = 0; s < n; ++s) {
+    if (step_ < cfg_.growth_steps) grow_radii();
+    if (need_rebuild_) rebuild();
+    // The last step of a batch stops at F_{n+1} so that the state can be read consistently.
+    compute_forces(true, s + 1 < n);
+    ++step_;
+    time_ = static_cast<double>(step_) * dt_;
+  }
+}
+
+Vec3 Simulation::velocity(std::size_t i) const {
+  if (!started_) return {p_.v[3 * i], p_.v[3 * i + 1], p_.v[3 * i + 2]};
+  const double h = 0.5 * dt_ * p_.inv_mass[i];
+  return {p_.v[3 * i] + h * p_.f[3 * i], p_.v[3 * i + 1] + h * p_.f[3 * i + 1], p_.v[3 * i + 2] + h * p_.f[3 * i + 2]};
+}
+
+Vec3 Simulation::angular_velocity(std::size_t i) const {
+  if (!started_) return {p_.w[3 * i], p_.w[3 * i + 1], p_.w[3 * i + 2]};
+  const double h = 0.5 * dt_ * p_.inv_inertia[i];
+  return {p_.w[3 * i] + h * p_.t[3 * i], p_.w[3 * i + 1] + h * p_.t[3 * i + 1], p_.w[3 * i + 2] + h * p_.t[3 * i + 2]};
+}
+
+Vec3 Simulation::force(std::size_t i) const {
+  return {p_.f[3 * i], p_.f[3 * i + 1], p_.f[3 * i + 2]};
+}
+
+Vec3 Simulation::torque(std::size_t i) const {
+  return {p_.t[3 * i], p_.t[3 * i + 1], p_.t[3 * i + 2]};
+}
+
+Stats Simulation::stats() const {
+  Stats s;
+  s.time = time_;
+  s.step = step_;
+  for (std::size_t i = 0; i < p_.n; ++i) {
+    const Vec3 v = velocity(i), w = angular_velocity(i);
+    s.kinetic += 0.5 * p_.mass[i] * v.squaredNorm();
+    s.rotational += 0.5 * (1.0 / p_.inv_inertia[i]) * w.squaredNorm();
+    s.potential_gravity -= p_.mass[i] * (cfg_.gravity.x() * p_.x[3 * i] + cfg_.gravity.y() * p_.x[3 * i + 1] +
+                                         cfg_.gravity.z() * p_.x[3 * i + 2]);
+    for (std::uint32_t q = list_.first[i]; q < list_.first[i + 1]; ++q) {
+      const std::uint32_t j = list_.partner[q];
+      const double* sh = box_.shift[list_.shift[q]];
+      double d2 = 0.0;
+      for (int a = 0; a < 3; ++a) {
+        const double d = p_.x[3 * j + a] + sh[a] - p_.x[3 * i + a];
+        d2 += d * d;
+      }
+      const double rs = p_.radius[i] + p_.radius[j];
+      if (d2 < rs * rs) ++s.contacts;
+    }
+    for (int w = 0; w < 6; ++w) {
+      if (!box_.wall[w]) continue;
+      const int a = w / 2;
+      const double dist = w % 2 == 0 ? p_.x[3 * i + a] - box_.lo[a] : box_.hi[a] - p_.x[3 * i + a];
+      if (dist < p_.radius[i]) ++s.wall_contacts;
+    }
+  }
+  s.coordination = p_.n ? 2.0 * static_cast<double>(s.contacts) / static_cast<double>(p_.n) : 0.0;
+  s.wall_force = wall_force_;
+  s.neighbor_builds = list_.builds;
+  s.neighbor_pairs = list_.pairs();
+  return s;
+}
+
+std::vector<Vec3> simple_cubic_lattice(const Vec3& lo, double a, int nx, int ny, int nz) {
+  std::vector<Vec3> out;
+  out.reserve(static_cast<std::size_t>(nx) * ny * nz);
+  for (int k = 0; k < nz; ++k)
+    for (int j = 0; j < ny; ++j)
+      for (int i = 0; i < nx; ++i) out.emplace_back(lo.x() + (i + 0.5) * a, lo.y() + (j + 0.5) * a, lo.z() + (k + 0.5) * a);
+  return out;
+}
+
+std::vector<Vec3> random_positions(const Vec3& lo, const Vec3& hi, double r, std::size_t count, std::uint64_t seed) {
+  core::Rng rng(seed);
+  std::vector<Vec3> out;
+  out.reserve(count);
+  const std::size_t max_tries = 1000 * (count + 10);
+  std::size_t tries = 0;
+  while (out.size() < count) {
+    if (++tries > max_tries)
+      throw Error("dem: could not place " + std::to_string(count) + " spheres of radius " + num(r) +
+                  " m at random without overlap (placed " + std::to_string(out.size()) + "); use a larger box or a lattice");
+    Vec3 x;
+    for (int a = 0; a < 3; ++a) x[a] = rng.uniform(lo[a] + r, hi[a] - r);
+    bool ok = true;
+    for (const Vec3& y : out)
+      if ((x - y).squaredNorm() < 4.0 * r * r) {
+        ok = false;
+        break;
+      }
+    if (ok) out.push_back(x);
+  }
+  return out;
+}
+
+}  // namespace grainflow::dem

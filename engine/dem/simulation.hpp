@@ -1,0 +1,160 @@
+// The 3D soft-sphere DEM engine (seed 000 ch. 2–5): Walton / Hooke contacts with history,
+// leap-frog integration (Eq. 2.19), Verlet table built by chain cells, box walls or
+// periodic axes, two particle groups, van der Waals cohesion.
+// UNITS: SI throughout — metres, kilograms, seconds, newtons, joules, radians per second.
+#pragma once
+#include <array>
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include "engine/core/vec.hpp"
+#include "engine/dem/contact_law.hpp"
+#include "engine/dem/contact_params.hpp"
+#include "engine/dem/neighbor_list.hpp"
+#include "engine/dem/particle_state.hpp"
+
+namespace grainflow::dem {
+
+struct GroupConfig {
+  double radius = 0.5e-3;    // [m]
+  double density = 2500.0;   // [kg/m³]
+  ContactParams contact;     // particle–particle within the group and particle–wall
+};
+
+struct BoxConfig {
+  Vec3 lo{0.0, 0.0, 0.0};
+  Vec3 hi{0.01, 0.01, 0.01};
+  std::array<bool, 3> periodic{false, false, false};
+  bool open_top = false;  // no wall at z = hi
+  // Velocity of each wall (0: x lo, 1: x hi, 2: y lo, 3: y hi, 4: z lo, 5: z hi) [m/s];
+  // only the in-plane components are allowed (plane Couette), the walls do not move normally.
+  std::array<Vec3, 6> wall_velocity{Vec3::Zero(), Vec3::Zero(), Vec3::Zero(),
+                                    Vec3::Zero(), Vec3::Zero(), Vec3::Zero()};
+};
+
+struct ParticleInit {
+  Vec3 x = Vec3::Zero();
+  Vec3 v = Vec3::Zero();
+  Vec3 omega = Vec3::Zero();
+  int group = 0;
+  double radius = 0.0;  // 0: the group's radius
+};
+
+struct Config {
+  BoxConfig box;
+  std::vector<GroupConfig> groups{GroupConfig{}};  // one or two groups
+  std::optional<ContactParams> mixed_contact;       // group 0–1 pairs; default: mix()
+  ContactModelSpec model;
+  Vec3 gravity{0.0, 0.0, -9.81};
+  double dt = 0.0;               // 0: Eq. 2.23 with steps_per_collision
+  int steps_per_collision = 50;  // n of Eq. 2.23
+  double skin = -1.0;            // Verlet search distance beyond contact [m]; < 0: 0.2 × largest diameter
+  NeighborMethod neighbor = NeighborMethod::ChainCells;
+  // Radius growth (seed 000 §2.1, FINDRAD): radii start at growth_start × final radius and
+  // grow linearly to the final radius over growth_steps steps while the contact forces
+  // push the particles apart (masses are those of the final radii throughout).
+  // growth_steps = 0: no growth. Overlap checks at set-up use the starting radii.
+  double growth_start = 1.0;
+  std::uint64_t growth_steps = 0;
+  std::vector<ParticleInit> particles;
+};
+
+struct Stats {
+  double time = 0.0;
+  std::uint64_t step = 0;
+  double kinetic = 0.0;         // Σ ½ m v² at the full step [J]
+  double rotational = 0.0;      // Σ ½ I ω² [J]
+  double potential_gravity = 0.0;  // Σ −m g·x [J]
+  std::size_t contacts = 0;     // particle–particle pairs with overlap > 0
+  std::size_t wall_contacts = 0;
+  double coordination = 0.0;    // 2 × contacts / N
+  std::array<Vec3, 6> wall_force{};  // force exerted by the particles on each wall [N]
+  std::uint64_t neighbor_builds = 0;
+  std::size_t neighbor_pairs = 0;
+};
+
+class Simulation {
+public:
+  // Validates the configuration; throws grainflow::Error naming the offending key/value.
+  explicit Simulation(Config cfg);
+  ~Simulation();
+  Simulation(Simulation&&) noexcept;
+  Simulation& operator=(Simulation&&) noexcept;
+
+  void step(std::uint64_t n = 1);
+
+  double time() const { return time_; }
+  std::uint64_t steps() const { return step_; }
+  double dt() const { return dt_; }
+  // Largest stable time step of this configuration (leap-frog, stiffest spring, lightest pair).
+  double dt_limit() const { return dt_limit_; }
+  std::size_t size() const { return p_.n; }
+  const Config& config() const { return cfg_; }
+
+  // State access. Positions are those of the current step; velocities are reported at the
+  // full step (v_n = v_{n−1/2} + ½Δt F_n/m, Eq. 2.19); forces are always those at the
+  // current positions (computed at the end of each step, as LAMMPS does).
+  Vec3 position(std::size_t i) const { return {p_.x[3 * i], p_.x[3 * i + 1], p_.x[3 * i + 2]}; }
+  double radius(std::size_t i) const { return p_.radius[i]; }
+  double mass(std::size_t i) const { return p_.mass[i]; }
+  int group(std::size_t i) const { return p_.group[i]; }
+  Vec3 velocity(std::size_t i) const;
+  Vec3 angular_velocity(std::size_t i) const;
+  Vec3 force(std::size_t i) const;   // total force at the current positions [N]
+  Vec3 torque(std::size_t i) const;
+  const Particles& particles() const { return p_; }     // raw arrays (v, w at the half step)
+  const NeighborList& neighbors() const { return list_; }
+  const ContactLaw& contact_law() const { return *law_; }
+  Stats stats() const;
+
+  // Binary checkpoint with the full state incl. contact history; a run restored from it
+  // continues bit for bit. Written atomically (temporary file + rename).
+  void save_checkpoint(const std::filesystem::path& file) const;
+  static Simulation load_checkpoint(const std::filesystem::path& file);
+
+private:
+  struct Restore {};
+  Simulation(Config cfg, Restore);
+  void setup();
+  void configure();        // contact law, time step, box
+  void place_particles();  // validated initial state, first neighbour table
+  void rebuild();
+  void integrate();  // leap-frog kick + drift, displacement check
+  // F_n at the current positions (history updated if asked), optionally fused with the
+  // next kick + drift.
+  void compute_forces(bool update, bool then_integrate);
+  static double kick_drift(Particles& P, const NeighborList& L, std::size_t i0, std::size_t i1, double kick, double dt);
+  void finish_integrate();
+  void update_wall_near();
+  void grow_radii();  // FINDRAD step
+
+  Config cfg_;
+  Particles p_;
+  Box box_;
+  NeighborList list_;
+  std::unique_ptr<ContactLaw> law_;
+  std::vector<double> wall_hist_;
+  std::vector<std::uint8_t> wall_flags_;
+  std::vector<std::uint8_t> wall_near_;  // rebuilt with the neighbour table
+  std::vector<double> final_radius_;     // radius growth target
+  std::vector<double> chunk_wall_;   // per chunk 6×3
+  std::vector<double> chunk_disp_;   // per chunk max squared displacement
+  double dt_ = 0.0, dt_limit_ = 0.0, skin_ = 0.0, time_ = 0.0;
+  std::uint64_t step_ = 0;
+  bool started_ = false;         // first kick is a half kick (v given at t = 0)
+  bool need_rebuild_ = false;
+  std::array<Vec3, 6> wall_force_{};
+};
+
+// Initial positions (seed 000 §2.1: lattice, random, or read from a list).
+// Simple cubic lattice with spacing a, first site at lo + a/2 per axis, x fastest.
+std::vector<Vec3> simple_cubic_lattice(const Vec3& lo, double spacing, int nx, int ny, int nz);
+// Random non-overlapping centres (random sequential addition with the run's seeded Rng);
+// throws grainflow::Error when `count` spheres of radius r do not fit after many tries.
+std::vector<Vec3> random_positions(const Vec3& lo, const Vec3& hi, double r, std::size_t count,
+                                   std::uint64_t seed);
+
+}  // namespace grainflow::dem

@@ -1,0 +1,44 @@
+#include "engine/ed/cell_grid.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include <fmt/format.h>
+
+#include "engine/core/error.hpp"
+
+namespace grainflow::ed {
+
+CellGrid::CellGrid(double lx, double ly, bool periodic_x, bool periodic_y, double min_cell, double min_diameter)
+    : lx_(lx), ly_(ly), px_(periodic_x), py_(periodic_y) {
+  if (!(min_cell > 0.0) || !std::isfinite(min_cell))
+    throw Error(fmt::format("ed: cell size {} is invalid; it must be a positive number no smaller "
+                            "than the largest disk diameter", min_cell));
+  nx_ = static_cast<int>(std::floor(lx / min_cell));
+  ny_ = static_cast<int>(std::floor(ly / min_cell));
+  const int need_x = px_ ? 3 : 1, need_y = py_ ? 3 : 1;
+  if (nx_ < need_x || ny_ < need_y)
+    throw Error(fmt::format("ed: box {} x {} holds {} x {} cells of size >= {}; needed at least {} x {} "
+                            "(3 along a periodic axis) — enlarge the box",
+                            lx, ly, nx_, ny_, min_cell, need_x, need_y));
+  w_ = lx / nx_;
+  h_ = ly / ny_;
+  const double d = min_diameter;
+  if (!(d > 0.0)) throw Error(fmt::format("ed: smallest disk diameter {} must be positive", d));
+  cap_ = static_cast<int>(std::floor(2.0 * w_ * h_ / (std::sqrt(3.0) * d * d) + (w_ + h_) / d + 1.0));
+  stride_ = cap_ + 1;
+  slots_.assign(static_cast<std::size_t>(nx_) * ny_ * stride_, 0);
+}
+
+void CellGrid::overflow(int c) const {
+  throw Error(fmt::format("ed: cell ({}, {}) would hold more than {} disks, which only overlapping "
+                          "disks can do; check the initial positions", ix(c), iy(c), cap_));
+}
+
+int CellGrid::cell_of_point(double x, double y) const {
+  const int ix = std::clamp(static_cast<int>(std::floor(x / w_)), 0, nx_ - 1);
+  const int iy = std::clamp(static_cast<int>(std::floor(y / h_)), 0, ny_ - 1);
+  return index(ix, iy);
+}
+
+}  // namespace grainflow::ed

@@ -1,0 +1,76 @@
+// The cell map of the ED engine (seed 003 §2.2): a regular grid of cells no smaller than
+// the largest diameter, each holding a doubly linked list of its disks, so a disk only
+// meets disks of its 3×3 neighbourhood; periodic axes wrap with an image shift.
+#pragma once
+#include <cstdint>
+#include <vector>
+
+namespace grainflow::ed {
+
+class CellGrid {
+public:
+  CellGrid() = default;
+  // Throws grainflow::Error when the box cannot hold cells of at least min_cell, or a
+  // periodic axis would have fewer than 3 cells (the 9 neighbours must be distinct).
+  // min_diameter: the smallest disk diameter (sets the per-cell capacity).
+  CellGrid(double lx, double ly, bool periodic_x, bool periodic_y, double min_cell, double min_diameter = 1.0);
+
+  int nx() const { return nx_; }
+  int ny() const { return ny_; }
+  int size() const { return nx_ * ny_; }
+  double width() const { return w_; }
+  double height() const { return h_; }
+  double lx() const { return lx_; }
+  double ly() const { return ly_; }
+  bool periodic_x() const { return px_; }
+  bool periodic_y() const { return py_; }
+  int index(int ix, int iy) const { return iy * nx_ + ix; }
+  int ix(int c) const { return c % nx_; }
+  int iy(int c) const { return c / nx_; }
+  // Cell of a point inside the box (clamped to the grid against round-off at the edges).
+  int cell_of_point(double x, double y) const;
+
+  // Shift to add to a disk of cell cj to see it from cell ci (minimum image by cell offsets).
+  void image_shift(int ci, int cj, double& sx, double& sy) const {
+    const int dcx = ix(cj) - ix(ci), dcy = iy(cj) - iy(ci);
+    sx = (2 * dcx > nx_) ? -lx_ : (2 * dcx < -nx_) ? lx_ : 0.0;
+    sy = (2 * dcy > ny_) ? -ly_ : (2 * dcy < -ny_) ? ly_ : 0.0;
+    if (!px_) sx = 0.0;
+    if (!py_) sy = 0.0;
+  }
+
+  // Membership: each cell stores its disks in a fixed-capacity slot array (count first),
+  // so a neighbourhood scan reads one short contiguous block per cell instead of chasing
+  // a linked list. The capacity follows from Groemer's packing bound for centres at least
+  // min_diameter apart in a cell (N ≤ 2A/(√3 d²) + P/(2d) + 1).
+  void resize_particles(int n) { cell_.assign(n, -1); pos_.assign(n, -1); }
+  void insert(int i, int c) {
+    std::int32_t* s = &slots_[static_cast<std::size_t>(c) * stride_];
+    if (s[0] >= cap_) overflow(c);
+    cell_[i] = c;
+    pos_[i] = s[0];
+    s[1 + s[0]++] = i;
+  }
+  void remove(int i) {
+    std::int32_t* s = &slots_[static_cast<std::size_t>(cell_[i]) * stride_];
+    const int last = s[s[0]--];
+    s[1 + pos_[i]] = last;
+    pos_[last] = pos_[i];
+    cell_[i] = -1;
+  }
+  int count(int c) const { return slots_[static_cast<std::size_t>(c) * stride_]; }
+  const std::int32_t* members(int c) const { return &slots_[static_cast<std::size_t>(c) * stride_ + 1]; }
+  int capacity() const { return cap_; }
+  int cell(int i) const { return cell_[i]; }
+  std::size_t memory_bytes() const { return (slots_.capacity() + cell_.capacity() + pos_.capacity()) * 4; }
+
+private:
+  int nx_ = 0, ny_ = 0;
+  double w_ = 0.0, h_ = 0.0, lx_ = 0.0, ly_ = 0.0;
+  bool px_ = false, py_ = false;
+  void overflow(int c) const;  // throws: only overlapping disks can overfill a cell
+  int cap_ = 0, stride_ = 1;
+  std::vector<std::int32_t> slots_, cell_, pos_;
+};
+
+}  // namespace grainflow::ed

@@ -1,0 +1,341 @@
+// The event loop of the ED engine (seed 003 §2.1–2.5), templated on the calendar so the
+// hot path has no virtual calls: disk–disk collisions and cell crossings are built in,
+// every other agent comes in through ParticleAgent/TimerAgent. Stale events are recognised
+// by the partner's event counter (DynamO style), so "affected" disks (§2.1) are re-predicted
+// lazily, only when their own outdated event comes up.
+#pragma once
+#include <cstdint>
+#include <functional>
+
+#include "engine/ed/system_state.hpp"
+
+namespace grainflow::ed {
+
+// One performed disk–disk collision, for tests and tracing.
+struct CollisionRecord {
+  int i, j;
+  double t;
+};
+
+class EventLoopBase {
+public:
+  virtual ~EventLoopBase() = default;
+  // Predicts every disk and timer and fills the calendar (call after any bulk change).
+  virtual void start() = 0;
+  // Processes every event with time ≤ t, then sets the clock to t.
+  virtual void run_until(double t) = 0;
+  // Processes n events (any kind; stale ones included) or fewer if nothing is scheduled.
+  virtual std::uint64_t advance(std::uint64_t n) = 0;
+  virtual double next_event_time() = 0;
+  virtual std::size_t calendar_bytes() const = 0;
+  virtual const char* calendar_name() const = 0;
+  std::function<void(const CollisionRecord&)> on_collision;  // empty: no tracing
+};
+
+template <class Calendar>
+class EventLoop final : public EventLoopBase {
+public:
+  explicit EventLoop(SystemState& s, Calendar cal = Calendar()) : s_(s), cal_(std::move(cal)) {}
+
+  void start() override {
+    const int n = s_.size();
+    const int nt = static_cast<int>(s_.timers.size());
+    s_.key.assign(n + nt, kNever);
+    s_.pair_time.assign(n, kNever);
+    s_.cross_time.assign(n, kNever);
+    s_.partner.assign(n, -1);
+    s_.partner_count.assign(n, 0);
+    s_.kind.assign(n, EventKind::None);
+    s_.cross_dir.assign(n, 0);
+    for (int i = 0; i < n; ++i) predict_full(i);
+    for (int a = 0; a < nt; ++a) s_.key[n + a] = std::max(s_.now(), s_.timers[a]->event_time(s_));
+    cal_.reset(s_.key.data(), &s_.grid, n, nt);
+  }
+
+  void run_until(double t) override {
+    for (;;) {
+      const int e = cal_.top();
+      if (e < 0 || s_.key[e] > t) break;
+      process(e);
+    }
+    s_.advance_clock(t);
+  }
+
+  std::uint64_t advance(std::uint64_t n) override {
+    std::uint64_t k = 0;
+    for (; k < n; ++k) {
+      const int e = cal_.top();
+      if (e < 0) break;
+      process(e);
+    }
+    return k;
+  }
+
+  double next_event_time() override {
+    const int e = cal_.top();
+    return e < 0 ? kNever : s_.key[e];
+  }
+  std::size_t calendar_bytes() const override { return cal_.memory_bytes(); }
+  const char* calendar_name() const override { return Calendar::kName; }
+
+private:
+  void process(int e) {
+    ++s_.stats.events;
+    s_.advance_clock(s_.key[e]);
+    const int n = s_.size();
+    if (e >= n) {
+      timer_event(e - n);
+    } else if (s_.cross_time[e] <= s_.pair_time[e]) {
+      crossing(e);
+    } else if (s_.kind[e] == EventKind::Pair) {
+      const int j = s_.partner[e];
+      if (s_.counter[j] != s_.partner_count[e]) {
+        ++s_.stats.stale;
+        predict_full(e);
+        cal_.update(e);
+      } else {
+        collide(e, j);
+      }
+    } else {
+      agent_event(e, s_.partner[e]);
+    }
+    cal_.commit();
+  }
+
+  void collide(int i, int j) {
+    s_.synchronise(i);
+    s_.synchronise(j);
+    Disk& a = s_.disk[i];
+    Disk& b = s_.disk[j];
+    double sx, sy;
+    s_.grid.image_shift(s_.grid.cell(i), s_.grid.cell(j), sx, sy);
+    const double rx = a.x - (b.x + sx), ry = a.y - (b.y + sy);
+    const double m1 = s_.mass[i], m2 = s_.mass[j];
+    const CollisionImpulse J = collision_impulse(rx, ry, a.vx - b.vx, a.vy - b.vy, a.r, b.r,
+                                                 s_.omega[i], s_.omega[j], m1, m2, s_.rule);
+    const double k0 = 0.5 * (m1 * (a.vx * a.vx + a.vy * a.vy) + m2 * (b.vx * b.vx + b.vy * b.vy));
+    a.vx += J.jx / m1;
+    a.vy += J.jy / m1;
+    b.vx -= J.jx / m2;
+    b.vy -= J.jy / m2;
+    const double k1 = 0.5 * (m1 * (a.vx * a.vx + a.vy * a.vy) + m2 * (b.vx * b.vx + b.vy * b.vy));
+    double drot = 0.0;
+    if (J.dw1 != 0.0 || J.dw2 != 0.0) {
+      const double w1 = s_.omega[i], w2 = s_.omega[j];
+      s_.omega[i] += J.dw1;
+      s_.omega[j] += J.dw2;
+      drot = 0.5 * (s_.inertia(i) * (s_.omega[i] * s_.omega[i] - w1 * w1) +
+                    s_.inertia(j) * (s_.omega[j] * s_.omega[j] - w2 * w2));
+    }
+    s_.add_kinetic(k1 - k0, drot, 0.0, 0.0);
+    s_.stats.virial += rx * J.jx + ry * J.jy;
+    ++s_.stats.collisions;
+    if (J.sliding) ++s_.stats.sliding;
+    ++s_.counter[i];
+    ++s_.counter[j];
+    if (on_collision) on_collision(CollisionRecord{i, j, s_.now()});
+    // A heap-based calendar must see each key change before the next one (an entry whose
+    // key changed but is not yet re-sifted would mislead the other's sift).
+    predict_full(i);
+    cal_.update(i);
+    predict_full(j);
+    cal_.update(j);
+  }
+
+  void crossing(int i) {
+    ++s_.stats.cell_crossings;
+    s_.synchronise(i);
+    CellGrid& g = s_.grid;
+    Disk& d = s_.disk[i];
+    const int from = g.cell(i);
+    int ix = g.ix(from), iy = g.iy(from);
+    const int dir = s_.cross_dir[i];
+    switch (dir) {
+      case 0: if (++ix == g.nx()) { ix = 0; d.x -= g.lx(); } break;
+      case 1: if (--ix < 0) { ix = g.nx() - 1; d.x += g.lx(); } break;
+      case 2: if (++iy == g.ny()) { iy = 0; d.y -= g.ly(); } break;
+      default: if (--iy < 0) { iy = g.ny() - 1; d.y += g.ly(); } break;
+    }
+    const int to = g.index(ix, iy);
+    g.remove(i);
+    g.insert(i, to);
+    cal_.moved(i, from, to);
+    if (s_.kind[i] == EventKind::Pair && s_.counter[s_.partner[i]] != s_.partner_count[i]) {
+      predict_full(i);  // the remembered partner changed: the old neighbourhood must be rescanned
+    } else {
+      // The best event in the old neighbourhood still holds; only the newly adjacent row of
+      // cells and the agents of the new cell can offer an earlier one (cells ≥ σ, §2.2).
+      const double held = s_.pair_time[i] - s_.now();
+      double best = held;
+      int who = s_.partner[i];
+      EventKind kind = s_.kind[i];
+      const Disk di = d;
+      if (dir < 2) {
+        int cx = ix + (dir == 0 ? 1 : -1);
+        double sx = 0.0;
+        if (wrap(cx, g.nx(), g.periodic_x(), g.lx(), sx))
+          for (int k = -1; k <= 1; ++k) {
+            int cy = iy + k;
+            double sy = 0.0;
+            if (wrap(cy, g.ny(), g.periodic_y(), g.ly(), sy))
+              scan_cell(i, di, g.index(cx, cy), sx, sy, best, who, kind);
+          }
+      } else {
+        int cy = iy + (dir == 2 ? 1 : -1);
+        double sy = 0.0;
+        if (wrap(cy, g.ny(), g.periodic_y(), g.ly(), sy))
+          for (int k = -1; k <= 1; ++k) {
+            int cx = ix + k;
+            double sx = 0.0;
+            if (wrap(cx, g.nx(), g.periodic_x(), g.lx(), sx))
+              scan_cell(i, di, g.index(cx, cy), sx, sy, best, who, kind);
+          }
+      }
+      scan_agents(i, to, best, who, kind);
+      if (best < held) store_pair(i, best, who, kind);  // else keep the held event bit-exact
+      crossing_time(i);
+      s_.key[i] = std::min(s_.pair_time[i], s_.cross_time[i]);
+    }
+    cal_.update(i);
+  }
+
+  void agent_event(int i, int a) {
+    ++s_.stats.agent_events;
+    s_.synchronise(i);
+    s_.agents[a]->action(s_, i);
+    predict_full(i);
+    cal_.update(i);
+    repredict_touched(i);
+  }
+
+  void timer_event(int a) {
+    ++s_.stats.timer_events;
+    TimerAgent& ag = *s_.timers[a];
+    ag.action(s_);
+    const int e = s_.size() + a;
+    s_.key[e] = std::max(s_.now(), ag.event_time(s_));
+    cal_.update(e);
+    repredict_touched(-1);
+  }
+
+  void repredict_touched(int skip) {
+    for (int j : s_.touched())
+      if (j != skip) {
+        predict_full(j);
+        cal_.update(j);
+      }
+    s_.clear_touched();
+  }
+
+  // Steps a neighbour cell index across the grid edge; false when there is no such cell.
+  static bool wrap(int& c, int n, bool periodic, double l, double& shift) {
+    if (c < 0) {
+      if (!periodic) return false;
+      c += n;
+      shift = -l;
+    } else if (c >= n) {
+      if (!periodic) return false;
+      c -= n;
+      shift = l;
+    }
+    return true;
+  }
+
+  void scan_cell(int i, const Disk& di, int c, double sx, double sy, double& best, int& who,
+                 EventKind& kind) const {
+    const double now = s_.now();
+    const std::int32_t* m = s_.grid.members(c);
+    for (int k = 0, cnt = s_.grid.count(c); k < cnt; ++k) {
+      const int j = m[k];
+      if (j == i) continue;
+      const Disk& dj = s_.disk[j];
+      const double dt = now - dj.t;
+      const double t = pair_collision_time(di.x - (dj.x + dj.vx * dt + sx), di.y - (dj.y + dj.vy * dt + sy),
+                                           di.vx - dj.vx, di.vy - dj.vy, di.r + dj.r);
+      if (t < best) {
+        best = t;
+        who = j;
+        kind = EventKind::Pair;
+      }
+    }
+  }
+
+  void scan_agents(int i, int c, double& best, int& who, EventKind& kind) const {
+    if (s_.cell_agent_begin.empty()) return;
+    for (int k = s_.cell_agent_begin[c]; k < s_.cell_agent_begin[c + 1]; ++k) {
+      const int a = s_.cell_agents[k];
+      const double t = s_.agents[a]->event_time(s_, i);
+      if (t < best) {
+        best = t;
+        who = a;
+        kind = EventKind::Agent;
+      }
+    }
+  }
+
+  void store_pair(int i, double best, int who, EventKind kind) {
+    s_.pair_time[i] = s_.now() + best;
+    s_.partner[i] = who;
+    s_.kind[i] = best == kNever ? EventKind::None : kind;
+    s_.partner_count[i] = kind == EventKind::Pair ? s_.counter[who] : 0u;
+  }
+
+  // Full prediction for disk i over its 3×3 neighbourhood (§2.2) and its cell's agents.
+  void predict_full(int i) {
+    s_.synchronise(i);
+    const CellGrid& g = s_.grid;
+    const Disk di = s_.disk[i];
+    const int c = g.cell(i);
+    const int ix = g.ix(c), iy = g.iy(c);
+    double best = kNever;
+    int who = -1;
+    EventKind kind = EventKind::None;
+    for (int ky = -1; ky <= 1; ++ky) {
+      int cy = iy + ky;
+      double sy = 0.0;
+      if (!wrap(cy, g.ny(), g.periodic_y(), g.ly(), sy)) continue;
+      for (int kx = -1; kx <= 1; ++kx) {
+        int cx = ix + kx;
+        double sx = 0.0;
+        if (!wrap(cx, g.nx(), g.periodic_x(), g.lx(), sx)) continue;
+        scan_cell(i, di, g.index(cx, cy), sx, sy, best, who, kind);
+      }
+    }
+    scan_agents(i, c, best, who, kind);
+    store_pair(i, best, who, kind);
+    crossing_time(i);
+    s_.key[i] = std::min(s_.pair_time[i], s_.cross_time[i]);
+  }
+
+  // Next crossing of a wall of the disk's own cell (the cell index is authoritative; the
+  // position may sit an ulp outside after round-off, hence the clamp at zero).
+  void crossing_time(int i) {
+    const CellGrid& g = s_.grid;
+    const Disk& d = s_.disk[i];
+    const int c = g.cell(i);
+    const int ix = g.ix(c), iy = g.iy(c);
+    double tx = kNever, ty = kNever;
+    std::uint8_t dx = 0, dy = 2;
+    if (d.vx > 0.0) {
+      if (ix + 1 < g.nx() || g.periodic_x()) tx = ((ix + 1) * g.width() - d.x) / d.vx;
+    } else if (d.vx < 0.0) {
+      if (ix > 0 || g.periodic_x()) tx = (ix * g.width() - d.x) / d.vx;
+      dx = 1;
+    }
+    if (d.vy > 0.0) {
+      if (iy + 1 < g.ny() || g.periodic_y()) ty = ((iy + 1) * g.height() - d.y) / d.vy;
+    } else if (d.vy < 0.0) {
+      if (iy > 0 || g.periodic_y()) ty = (iy * g.height() - d.y) / d.vy;
+      dy = 3;
+    }
+    const bool use_x = tx <= ty;
+    const double t = std::max(0.0, use_x ? tx : ty);
+    s_.cross_time[i] = s_.now() + t;
+    s_.cross_dir[i] = use_x ? dx : dy;
+  }
+
+  SystemState& s_;
+  Calendar cal_;
+};
+
+}  // namespace grainflow::ed

@@ -1,0 +1,41 @@
+// The event-source interface of seed 003 §2.5: every agent other than disk–disk pairs and
+// cell walls (which are the engine's built-in fast path) provides event_time() and
+// action(). Agents are registered with the engine once; the event loop never names them.
+#pragma once
+#include <string_view>
+#include <vector>
+
+namespace grainflow::ed {
+
+class CellGrid;
+class SystemState;
+
+// An agent that meets individual disks: elastic walls, obstacles, inlet/outlet planes.
+// It lives in the cells whose disks can reach it and is asked about every disk predicted
+// in those cells.
+class ParticleAgent {
+public:
+  virtual ~ParticleAgent() = default;
+  virtual std::string_view name() const = 0;
+  // Cells whose disks can meet this agent before leaving the cell.
+  virtual void cells(const CellGrid& grid, std::vector<int>& out) const = 0;
+  // Delay from state.now() until disk i (synchronised to now) meets the agent, or kNever.
+  virtual double event_time(const SystemState& state, int i) const = 0;
+  // Acts on disk i at state.now(); the disk is synchronised. Velocities are changed only
+  // through SystemState::set_velocity so energy/momentum books and event counters stay right.
+  virtual void action(SystemState& state, int i) = 0;
+};
+
+// An agent with its own clock: sampler, thermostat, progress reporter.
+class TimerAgent {
+public:
+  virtual ~TimerAgent() = default;
+  virtual std::string_view name() const = 0;
+  // Absolute time of the next action (kNever: none).
+  virtual double event_time(const SystemState& state) const = 0;
+  // Called at state.now() == the time returned by event_time(). Disks are not synchronised
+  // (use SystemState::position_now / set_velocity).
+  virtual void action(SystemState& state) = 0;
+};
+
+}  // namespace grainflow::ed

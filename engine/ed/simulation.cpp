@@ -1,0 +1,200 @@
+#include "engine/ed/simulation.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include <fmt/format.h>
+
+#include "engine/core/error.hpp"
+#include "engine/ed/bucket_calendar.hpp"
+#include "engine/ed/cell_heap_calendar.hpp"
+#include "engine/ed/elastic_walls.hpp"
+
+namespace grainflow::ed {
+
+std::string_view calendar_name(CalendarKind k) {
+  return k == CalendarKind::cell_heap ? "cell_heap" : "bucket";
+}
+
+CalendarKind calendar_from_name(std::string_view name) {
+  if (name == "cell_heap") return CalendarKind::cell_heap;
+  if (name == "bucket") return CalendarKind::bucket;
+  throw Error(fmt::format("ed: calendar \"{}\" is unknown; allowed: \"cell_heap\", \"bucket\"", name));
+}
+
+namespace {
+void check_config(const Config& c) {
+  auto bad = [](std::string_view key, double v, std::string_view allowed) {
+    throw Error(fmt::format("ed: {} = {} is invalid; allowed: {}", key, v, allowed));
+  };
+  if (!(c.lx > 0.0) || !std::isfinite(c.lx)) bad("lx", c.lx, "a positive length");
+  if (!(c.ly > 0.0) || !std::isfinite(c.ly)) bad("ly", c.ly, "a positive length");
+  if (c.n < 0) bad("n", c.n, "n >= 0");
+  if (c.n == 0 && !(c.area_fraction > 0.0 && c.area_fraction < 0.9069))
+    bad("area_fraction", c.area_fraction, "0 < area_fraction < 0.9069 (close packing)");
+  if (!(c.kT >= 0.0) || !std::isfinite(c.kT)) bad("kT", c.kT, "kT >= 0");
+  if (!(c.e >= 0.0 && c.e <= 1.0)) bad("e", c.e, "0 <= e <= 1");
+  if (!(c.e_t >= -1.0 && c.e_t <= 1.0)) bad("e_t", c.e_t, "-1 <= e_t <= 1");
+  if (!(c.mu >= 0.0)) bad("mu", c.mu, "mu >= 0 (infinity: no sliding)");
+  if (!(c.wall_restitution >= 0.0 && c.wall_restitution <= 1.0))
+    bad("wall_restitution", c.wall_restitution, "0 <= wall_restitution <= 1");
+}
+}  // namespace
+
+Simulation::Simulation(const Config& cfg) : cfg_(cfg) {
+  check_config(cfg_);
+  const int n = cfg_.n > 0 ? cfg_.n
+                           : static_cast<int>(std::lround(cfg_.area_fraction * cfg_.lx * cfg_.ly /
+                                                          (std::numbers::pi / 4.0)));
+  core::Rng rng(cfg_.seed);
+  auto disks = triangular_lattice(n, 1.0, cfg_.lx, cfg_.ly, cfg_.periodic_x, cfg_.periodic_y, rng);
+  maxwell_velocities(disks, cfg_.kT, cfg_.stream, cfg_.mu > 0.0, 0.5, rng);
+  build(std::move(disks));
+}
+
+Simulation::Simulation(const Config& cfg, std::vector<DiskInit> disks) : cfg_(cfg) {
+  check_config(cfg_);
+  build(std::move(disks));
+}
+
+Simulation::~Simulation() = default;
+
+void Simulation::build(std::vector<DiskInit> disks) {
+  const int n = static_cast<int>(disks.size());
+  double dmax = 0.0, dmin = kNever;
+  for (int i = 0; i < n; ++i) {
+    const DiskInit& d = disks[i];
+    if (!(d.radius > 0.0) || !(d.mass > 0.0))
+      throw Error(fmt::format("ed: disk {} has radius {} and mass {}; both must be positive", i, d.radius, d.mass));
+    const bool inx = cfg_.periodic_x ? (d.r.x() >= 0.0 && d.r.x() < cfg_.lx)
+                                     : (d.r.x() >= d.radius && d.r.x() <= cfg_.lx - d.radius);
+    const bool iny = cfg_.periodic_y ? (d.r.y() >= 0.0 && d.r.y() < cfg_.ly)
+                                     : (d.r.y() >= d.radius && d.r.y() <= cfg_.ly - d.radius);
+    if (!inx || !iny)
+      throw Error(fmt::format("ed: disk {} at ({}, {}) with radius {} is outside the {} x {} box", i,
+                              d.r.x(), d.r.y(), d.radius, cfg_.lx, cfg_.ly));
+    dmax = std::max(dmax, 2.0 * d.radius);
+    dmin = std::min(dmin, 2.0 * d.radius);
+  }
+  if (cfg_.min_cell_size < dmax)
+    throw Error(fmt::format("ed: min_cell_size = {} is smaller than the largest diameter {}; cells "
+                            "must be at least one diameter (seed 003 §2.2)", cfg_.min_cell_size, dmax));
+  s_.grid = CellGrid(cfg_.lx, cfg_.ly, cfg_.periodic_x, cfg_.periodic_y, cfg_.min_cell_size,
+                     n > 0 ? dmin : 1.0);
+  s_.rule = CollisionParams{cfg_.e, cfg_.e_t, cfg_.mu, 0.5};
+  s_.disk.resize(n);
+  s_.mass.resize(n);
+  s_.omega.resize(n);
+  s_.counter.assign(n, 0);
+  s_.grid.resize_particles(n);
+  for (int i = 0; i < n; ++i) {
+    const DiskInit& d = disks[i];
+    s_.disk[i] = Disk{d.r.x(), d.r.y(), d.v.x(), d.v.y(), 0.0, d.radius};
+    s_.mass[i] = d.mass;
+    s_.omega[i] = d.omega;
+    s_.grid.insert(i, s_.grid.cell_of_point(d.r.x(), d.r.y()));
+  }
+  // Overlaps are an impossible configuration, not something to resolve silently.
+  const double gap = min_gap();
+  if (gap < -1e-9 * std::max(1.0, dmax))
+    throw Error(fmt::format("ed: initial disks overlap (smallest gap {}); place them at least a "
+                            "diameter apart", gap));
+  s_.recompute_books();
+  if (!cfg_.periodic_x || !cfg_.periodic_y)
+    s_.agents.push_back(std::make_unique<ElasticWalls>(cfg_.lx, cfg_.ly, !cfg_.periodic_x,
+                                                       !cfg_.periodic_y, cfg_.wall_restitution));
+  if (cfg_.calendar == CalendarKind::cell_heap)
+    loop_ = std::make_unique<EventLoop<CellHeapCalendar>>(s_);
+  else
+    loop_ = std::make_unique<EventLoop<BucketCalendar>>(s_);
+  restart();
+  s_.reset_measurements();
+}
+
+void Simulation::restart() {
+  s_.index_agents();
+  loop_->start();
+}
+
+ParticleAgent* Simulation::add_agent(std::unique_ptr<ParticleAgent> agent) {
+  s_.agents.push_back(std::move(agent));
+  restart();
+  return s_.agents.back().get();
+}
+
+TimerAgent* Simulation::add_timer(std::unique_ptr<TimerAgent> timer) {
+  s_.timers.push_back(std::move(timer));
+  restart();
+  return s_.timers.back().get();
+}
+
+void Simulation::run_until(double t) {
+  if (t < s_.now())
+    throw Error(fmt::format("ed: run_until({}) is before the current time {}", t, s_.now()));
+  loop_->run_until(t);
+}
+
+std::uint64_t Simulation::advance(std::uint64_t events) { return loop_->advance(events); }
+
+void Simulation::synchronise() {
+  for (int i = 0; i < s_.size(); ++i) s_.synchronise(i);
+}
+
+double Simulation::kinetic_energy() const {
+  double k = 0.0;
+  for (int i = 0; i < s_.size(); ++i) {
+    const Disk& d = s_.disk[i];
+    k += 0.5 * s_.mass[i] * (d.vx * d.vx + d.vy * d.vy) + 0.5 * s_.inertia(i) * s_.omega[i] * s_.omega[i];
+  }
+  return k;
+}
+
+Vec2 Simulation::momentum() const {
+  Vec2 p{0.0, 0.0};
+  for (int i = 0; i < s_.size(); ++i) p += s_.mass[i] * Vec2{s_.disk[i].vx, s_.disk[i].vy};
+  return p;
+}
+
+double Simulation::area_fraction() const {
+  double a = 0.0;
+  for (const Disk& d : s_.disk) a += std::numbers::pi * d.r * d.r;
+  return a / s_.area();
+}
+
+double Simulation::min_gap() const {
+  // Uses the cell lists: every pair closer than a cell is in adjacent cells.
+  const CellGrid& g = s_.grid;
+  double gap = kNever;
+  for (int i = 0; i < s_.size(); ++i) {
+    const Vec2 pi = s_.position_now(i);
+    const int c = g.cell(i);
+    for (int ky = -1; ky <= 1; ++ky)
+      for (int kx = -1; kx <= 1; ++kx) {
+        int cx = g.ix(c) + kx, cy = g.iy(c) + ky;
+        double sx = 0.0, sy = 0.0;
+        if (cx < 0) { if (!g.periodic_x()) continue; cx += g.nx(); sx = -g.lx(); }
+        if (cx >= g.nx()) { if (!g.periodic_x()) continue; cx -= g.nx(); sx = g.lx(); }
+        if (cy < 0) { if (!g.periodic_y()) continue; cy += g.ny(); sy = -g.ly(); }
+        if (cy >= g.ny()) { if (!g.periodic_y()) continue; cy -= g.ny(); sy = g.ly(); }
+        const int cc = g.index(cx, cy);
+        for (int k = 0; k < g.count(cc); ++k) {
+          const int j = g.members(cc)[k];
+          if (j <= i) continue;
+          const Vec2 pj = s_.position_now(j) + Vec2{sx, sy};
+          gap = std::min(gap, (pi - pj).norm() - s_.disk[i].r - s_.disk[j].r);
+        }
+      }
+  }
+  return gap;
+}
+
+std::size_t Simulation::memory_bytes() const {
+  const std::size_t n = s_.disk.capacity();
+  const std::size_t per = sizeof(Disk) + 8 /*mass*/ + 8 /*omega*/ + 4 /*counter*/ + 8 /*key*/ +
+                          8 /*pair_time*/ + 8 /*cross_time*/ + 4 /*partner*/ + 4 /*partner_count*/ +
+                          1 /*kind*/ + 1 /*cross_dir*/;
+  return n * per + s_.grid.memory_bytes() + loop_->calendar_bytes();
+}
+
+}  // namespace grainflow::ed

@@ -1,0 +1,99 @@
+// Public API of the 2D event-driven hard-disk engine (seed 003 ch. 2–4), what the scene
+// layer drives. UNITS: disk diameter σ = 1 (length), disk mass m = 1, kT in energy units
+// (time unit σ·sqrt(m/energy)); the seed's reference runs use kT = 0.02, η = 0.65.
+#pragma once
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <string_view>
+#include <vector>
+
+#include "engine/core/vec.hpp"
+#include "engine/ed/event_loop.hpp"
+#include "engine/ed/initial_state.hpp"
+#include "engine/ed/system_state.hpp"
+
+namespace grainflow::ed {
+
+enum class CalendarKind {
+  cell_heap,  // seed 003 §2.4: heap of cells, each holding its earliest event
+  bucket,     // Paul 2007 bucket queue, one event per disk (faster; the default)
+};
+std::string_view calendar_name(CalendarKind k);
+// "cell_heap" | "bucket"; throws grainflow::Error naming the allowed values.
+CalendarKind calendar_from_name(std::string_view name);
+
+struct Config {
+  double lx = 40.0, ly = 40.0;      // box [0, lx] × [0, ly]
+  int n = 0;                        // number of disks; 0: derived from area_fraction
+  double area_fraction = 0.65;      // η = N π σ² / (4 A), used when n == 0
+  double kT = 0.02;                 // initial granular temperature
+  Vec2 stream{0.0, 0.0};            // stream velocity U added to Maxwell velocities
+  std::uint64_t seed = 1;
+  bool periodic_x = true, periodic_y = true;  // a non-periodic axis gets elastic walls
+  double wall_restitution = 1.0;
+  double e = 1.0, e_t = 1.0, mu = 0.0;        // §3.4 collision rule (mu = 0: smooth disks)
+  double min_cell_size = 1.2;       // cell edge ≥ this (≥ largest diameter; §2.2 optimum ≈ 1.2σ)
+  CalendarKind calendar = CalendarKind::bucket;
+};
+
+class Simulation {
+public:
+  // Lattice start (triangular, melts) at η or n, Maxwell velocities at kT plus U.
+  explicit Simulation(const Config& cfg);
+  // Explicit disks (positions inside the box, no overlaps); velocities taken as given.
+  Simulation(const Config& cfg, std::vector<DiskInit> disks);
+  ~Simulation();
+  Simulation(const Simulation&) = delete;
+  Simulation& operator=(const Simulation&) = delete;
+
+  void run_until(double t);                    // all events with time ≤ t, clock ends at t
+  std::uint64_t advance(std::uint64_t events);  // exactly that many events (fewer if none)
+  // Brings every disk to the current time (needed before drawing or reading positions).
+  void synchronise();
+  double time() const { return s_.now(); }
+  double next_event_time() { return loop_->next_event_time(); }
+
+  int size() const { return s_.size(); }
+  const std::vector<Disk>& disks() const { return s_.disk; }  // each at its own time t
+  const std::vector<double>& omega() const { return s_.omega; }
+  const SystemState& state() const { return s_; }
+  SystemState& state() { return s_; }
+  const Config& config() const { return cfg_; }
+
+  // Agents (§2.5). Adding one re-predicts every disk; do it before running when possible.
+  // The returned pointer stays valid for the life of the simulation.
+  ParticleAgent* add_agent(std::unique_ptr<ParticleAgent> agent);
+  TimerAgent* add_timer(std::unique_ptr<TimerAgent> timer);
+  template <class T, class... Args>
+  T& emplace_timer(Args&&... args) {
+    return static_cast<T&>(*add_timer(std::make_unique<T>(std::forward<Args>(args)...)));
+  }
+
+  // Measurements over the window since the last reset (construction starts one).
+  const Stats& stats() const { return s_.stats; }
+  Observables observables() const { return s_.observables(); }
+  void reset_measurements() { s_.reset_measurements(); }
+  // Exact totals from the disks (not the incremental books).
+  double kinetic_energy() const;   // Σ m v²/2 + Σ I ω²/2
+  Vec2 momentum() const;
+  double area_fraction() const;
+  // Minimum over all pairs of (distance − σ_ij) at the current time, O(N²)/cells: for tests.
+  double min_gap() const;
+
+  // Every collision is reported (tests, tracing); an empty function turns it off.
+  void set_collision_observer(std::function<void(const CollisionRecord&)> f) { loop_->on_collision = std::move(f); }
+
+  const char* calendar() const { return loop_->calendar_name(); }
+  std::size_t memory_bytes() const;  // engine state incl. calendar, excluding agents
+
+private:
+  void build(std::vector<DiskInit> disks);
+  void restart();
+
+  Config cfg_;
+  SystemState s_;
+  std::unique_ptr<EventLoopBase> loop_;
+};
+
+}  // namespace grainflow::ed

@@ -1,0 +1,35 @@
+// Running counters and accumulators of the ED engine (seed 003 §4.1 measurements):
+// event/collision counts, time integral of kT, and the collision virial for the pressure.
+#pragma once
+#include <cstdint>
+
+namespace grainflow::ed {
+
+struct Stats {
+  std::uint64_t events = 0;          // every calendar entry processed (incl. stale)
+  std::uint64_t collisions = 0;      // disk–disk collisions performed
+  std::uint64_t sliding = 0;         // of which in the Coulomb (sliding) branch
+  std::uint64_t cell_crossings = 0;
+  std::uint64_t stale = 0;           // events discarded because the partner changed
+  std::uint64_t agent_events = 0;    // ParticleAgent actions (walls, obstacles, ...)
+  std::uint64_t timer_events = 0;    // TimerAgent actions (sampler, thermostat, ...)
+
+  // Measurement window: accumulators since reset at time t0.
+  double t0 = 0.0;
+  std::uint64_t collisions0 = 0;     // value of `collisions` at t0
+  double kT_integral = 0.0;          // ∫ kT dt over [t0, now]
+  double virial = 0.0;               // Σ_collisions r_ij · Δp_i (Δp_i: impulse on i)
+};
+
+// Observables derived from Stats over the measurement window (see simulation.hpp).
+struct Observables {
+  double duration = 0.0;        // t − t0
+  std::uint64_t collisions = 0;
+  double kT = 0.0;              // time-averaged granular temperature (Eq. 4.9, i = 2)
+  double pressure = 0.0;        // collision-virial pressure
+  double compressibility = 0.0; // Z = P A / (N kT)
+  double mean_free_time = 0.0;  // t N / (2 · collisions)
+  double collision_rate = 0.0;  // collisions per unit time per disk = 2 C / (N t)
+};
+
+}  // namespace grainflow::ed

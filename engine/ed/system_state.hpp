@@ -1,0 +1,122 @@
+// The state of an ED hard-disk system as the event loop and the agents see it: disks with
+// their own lazy clocks (seed 003 §2.3), per-disk next events with partner counters
+// (DynamO style), the cell map (§2.2), the collision rule (§3.4) and the energy books.
+#pragma once
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "engine/core/vec.hpp"
+#include "engine/ed/cell_grid.hpp"
+#include "engine/ed/collision_rule.hpp"
+#include "engine/ed/event_source.hpp"
+#include "engine/ed/pair_collision_time.hpp"
+#include "engine/ed/stats.hpp"
+
+namespace grainflow::ed {
+
+// Hot per-disk data, one cache line: position and velocity valid at the disk's own time t.
+struct Disk {
+  double x, y, vx, vy, t, r;
+};
+
+// What a disk's scheduled non-crossing event is.
+enum class EventKind : std::uint8_t { None = 0, Pair = 1, Agent = 2 };
+
+class SystemState {
+public:
+  // ---- disks -------------------------------------------------------------------------
+  std::vector<Disk> disk;
+  std::vector<double> mass, omega;     // ω_z (rough disks)
+  std::vector<std::uint32_t> counter;  // bumped whenever the disk's velocity changes
+  int size() const { return static_cast<int>(disk.size()); }
+
+  // ---- next event per disk (plus one key per timer agent after the disks) ------------
+  std::vector<double> key;            // calendar key: min(pair_time, cross_time) or timer time
+  std::vector<double> pair_time;      // earliest disk–disk or agent event
+  std::vector<double> cross_time;     // next cell-wall crossing
+  std::vector<std::int32_t> partner;  // disk id (Pair) or agent id (Agent)
+  std::vector<std::uint32_t> partner_count;  // partner's counter when predicted (Pair)
+  std::vector<EventKind> kind;
+  std::vector<std::uint8_t> cross_dir;  // 0 +x, 1 −x, 2 +y, 3 −y
+
+  CellGrid grid;
+  CollisionParams rule;
+  std::vector<std::unique_ptr<ParticleAgent>> agents;
+  std::vector<std::unique_ptr<TimerAgent>> timers;
+  // Agents per cell in CSR form: agents of cell c are cell_agents[cell_agent_begin[c] ..
+  // cell_agent_begin[c+1]).
+  std::vector<std::int32_t> cell_agent_begin, cell_agents;
+
+  Stats stats;
+
+  double now() const { return now_; }
+  double area() const { return grid.lx() * grid.ly(); }
+
+  // Brings disk i to the current time (seed 003 §2.3: only event parties are moved).
+  void synchronise(int i) {
+    Disk& d = disk[i];
+    const double dt = now_ - d.t;
+    d.x += d.vx * dt;
+    d.y += d.vy * dt;
+    d.t = now_;
+  }
+  // Position of disk i at the current time without touching its state.
+  Vec2 position_now(int i) const {
+    const Disk& d = disk[i];
+    const double dt = now_ - d.t;
+    return {d.x + d.vx * dt, d.y + d.vy * dt};
+  }
+  double inertia(int i) const { return rule.q * mass[i] * disk[i].r * disk[i].r; }
+
+  // The way agents change a disk's velocity: keeps energy/momentum books and counters
+  // right and asks the loop to re-predict the disk. Synchronises the disk first.
+  void set_velocity(int i, double vx, double vy);
+  void set_velocity(int i, double vx, double vy, double w);
+  const std::vector<int>& touched() const { return touched_; }
+  void clear_touched() { touched_.clear(); }
+
+  // Energy and momentum books (kept incrementally; recompute() makes them exact again).
+  double kinetic() const { return kin_; }          // translational Σ m v²/2
+  double rotational() const { return rot_; }       // Σ I ω²/2
+  Vec2 momentum() const { return {px_, py_}; }
+  double total_mass() const { return mtot_; }
+  void recompute_books();
+  // Granular temperature from peculiar velocities (seed 003 Eq. 4.9 with i = 2):
+  // kT = Σ m |v − V|² / (2N), V the mass-averaged velocity.
+  double kT() const {
+    const int n = size();
+    return n ? (kin_ - 0.5 * (px_ * px_ + py_ * py_) / mtot_) / n : 0.0;
+  }
+  void add_kinetic(double dk, double drot, double dpx, double dpy) {
+    kin_ += dk;
+    rot_ += drot;
+    px_ += dpx;
+    py_ += dpy;
+  }
+
+  // Moves the clock forward, integrating kT over the interval (measurement window).
+  void advance_clock(double t) {
+    if (t > now_) {
+      stats.kT_integral += kT() * (t - now_);
+      now_ = t;
+    }
+  }
+  void reset_measurements() {
+    stats.t0 = now_;
+    stats.collisions0 = stats.collisions;
+    stats.kT_integral = 0.0;
+    stats.virial = 0.0;
+  }
+  Observables observables() const;
+
+  // Rebuilds the per-cell agent lists (after agents are added or the grid changes).
+  void index_agents();
+
+private:
+  double now_ = 0.0;
+  double kin_ = 0.0, rot_ = 0.0, px_ = 0.0, py_ = 0.0, mtot_ = 0.0;
+  std::vector<int> touched_;
+};
+
+}  // namespace grainflow::ed

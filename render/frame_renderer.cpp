@@ -1,0 +1,85 @@
+#include "render/frame_renderer.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace grainflow::render {
+
+std::pair<double, double> finite_range(std::span<const float> values) {
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  for (float v : values)
+    if (std::isfinite(v)) {
+      lo = std::min(lo, double(v));
+      hi = std::max(hi, double(v));
+    }
+  if (lo > hi) return {0.0, 1.0};
+  return {lo, hi};
+}
+
+FrameRenderer::FrameRenderer(GlContext& context, int width, int height, int msaa_samples)
+    : ctx_(context), fb_(context.gl(), width, height, msaa_samples), particles_(context.gl()), segments_(context.gl()) {}
+
+const Image& FrameRenderer::render(const Snapshot& s, const FrameStyle& style) {
+  const GlApi& gl = ctx_.gl();
+  const int w = fb_.width(), h = fb_.height();
+  fb_.bind();
+  gl.ClearColor(style.background.r, style.background.g, style.background.b, 1.0f);
+  gl.ClearDepth(1.0);
+  gl.Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+
+  // Colour coordinates in [0, 1]; a constant attribute sits at the map's centre.
+  values_.clear();
+  ParticleDrawStyle pstyle{style.colormap, s.attribute_categorical, std::nullopt};
+  if (s.attribute.size() == s.size() && s.size() > 0) {
+    values_.resize(s.size());
+    if (s.attribute_categorical) {
+      const int n = style.colormap.size();
+      for (std::size_t i = 0; i < s.size(); ++i)
+        values_[i] = std::isfinite(s.attribute[i]) ? category_coordinate(std::llround(s.attribute[i]), n)
+                                                   : std::nanf("");
+    } else {
+      const auto [lo, hi] = style.range ? *style.range : finite_range(s.attribute);
+      const double span = hi - lo;
+      for (std::size_t i = 0; i < s.size(); ++i) {
+        const float v = s.attribute[i];
+        values_[i] = !std::isfinite(v) ? std::nanf("") : span > 0 ? float((v - lo) / span) : 0.5f;
+      }
+    }
+  }
+
+  const Rgb edge = (style.background.r + style.background.g + style.background.b) > 1.5f ? Rgb{0.15f, 0.15f, 0.15f}
+                                                                                          : Rgb{0.85f, 0.85f, 0.85f};
+  geometry_.clear();
+  if (s.dim == 2) {
+    const ViewTransform view = fit_2d(s.lo.head<2>(), s.hi.head<2>(), w, h);
+    particles_.draw_disks(view, w, h, s.pos_radius, values_, pstyle);
+    // Obstacles: filled, then outlined, on top of the particles.
+    if (!s.obstacles.empty()) {
+      std::vector<float> obstacle_disks;
+      for (const auto& c : s.obstacles)
+        obstacle_disks.insert(obstacle_disks.end(), {float(c.centre.x()), float(c.centre.y()), 0.0f, float(c.radius)});
+      ParticleDrawStyle flat{style.colormap, false, Rgb{0.55f, 0.55f, 0.58f}};
+      particles_.draw_disks(view, w, h, obstacle_disks, {}, flat);
+      for (const auto& c : s.obstacles)
+        add_circle(geometry_, c.centre.cast<float>(), float(c.radius), edge, 1.5f);
+    }
+    if (style.draw_domain) {
+      const std::vector<Eigen::Vector3f> box = {{float(s.lo.x()), float(s.lo.y()), 0.f},
+                                                {float(s.hi.x()), float(s.lo.y()), 0.f},
+                                                {float(s.hi.x()), float(s.hi.y()), 0.f},
+                                                {float(s.lo.x()), float(s.hi.y()), 0.f}};
+      add_polyline(geometry_, box, edge, 1.5f, 1.0f, true);
+    }
+    segments_.draw(view, w, h, geometry_, false);
+  } else {
+    const ViewTransform view = fit_3d(s.lo, s.hi, style.camera, w, h);
+    particles_.draw_spheres(view, w, h, s.pos_radius, values_, pstyle);
+    if (style.draw_domain) add_box_edges(geometry_, s.lo, s.hi, edge, 1.5f);
+    segments_.draw(view, w, h, geometry_, true);
+  }
+  fb_.read(image_);
+  return image_;
+}
+
+}  // namespace grainflow::render

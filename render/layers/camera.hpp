@@ -1,0 +1,34 @@
+// Cameras: a 2D orthographic view that fits a rectangle into the viewport keeping the
+// aspect ratio, and a 3D orbit camera (perspective or orthographic) around a box.
+#pragma once
+#include <Eigen/Core>
+
+namespace grainflow::render {
+
+using Mat4 = Eigen::Matrix4f;
+
+struct ViewTransform {
+  Mat4 view = Mat4::Identity();
+  Mat4 proj = Mat4::Identity();
+  Mat4 view_proj() const { return proj * view; }
+  float pixels_per_unit = 1.0f;  // for 2D and orthographic views: world length → pixels
+};
+
+// Maps [lo, hi] (world x, y) into a viewport of width × height pixels, centred, with
+// `margin` (fraction of the viewport) on the tighter side.
+ViewTransform fit_2d(const Eigen::Vector2d& lo, const Eigen::Vector2d& hi, int width, int height,
+                     double margin = 0.03);
+
+struct OrbitCamera {
+  double azimuth_deg = 35.0;    // around the vertical (z) axis, from +x towards +y
+  double elevation_deg = 25.0;  // above the horizontal plane
+  double fov_y_deg = 30.0;
+  bool orthographic = false;
+  double zoom = 1.0;            // > 1 moves closer
+};
+
+// Frames the box [lo, hi] (z up) as seen by the orbit camera.
+ViewTransform fit_3d(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, const OrbitCamera& cam, int width,
+                     int height);
+
+}  // namespace grainflow::render

@@ -1,0 +1,33 @@
+// FrameSink writing an H.264 MP4 (Mp4Writer). The video size is taken from the first
+// frame; the file appears under its final name only after finish() (SPEC.md §3).
+#pragma once
+#include <filesystem>
+#include <memory>
+
+#include "render/output/frame_sink.hpp"
+#include "render/output/mp4_writer.hpp"
+
+namespace grainflow::render {
+
+class Mp4Sink : public FrameSink {
+public:
+  // Checks the options and that the directory exists now, so a bad configuration fails
+  // before the run starts rather than at the first frame.
+  explicit Mp4Sink(std::filesystem::path path, Mp4Options options = {});
+  ~Mp4Sink() override;
+
+  // Frames are shown at a constant rate in the order given; `time` is not used (the
+  // video's clock is frame index / fps).
+  void consume(const Image& frame, std::int64_t index, double time) override;
+  // Throws grainflow::Error if no frame was given: an MP4 was asked for and none can be made.
+  void finish() override;
+
+  std::int64_t frames_written() const;
+
+private:
+  std::filesystem::path path_;
+  Mp4Options options_;
+  std::unique_ptr<Mp4Writer> writer_;
+};
+
+}  // namespace grainflow::render

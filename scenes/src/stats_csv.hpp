@@ -1,0 +1,52 @@
+// stats.csv (SPEC.md §3b): one row per sample, `time` first, then named columns. Written
+// to stats.csv.partial, flushed regularly, renamed to stats.csv by finish() (on completion
+// and after Ctrl-C), so a killed run leaves only a .partial, never a finished-looking file.
+#pragma once
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <span>
+#include <string>
+#include <vector>
+
+namespace grainflow::scenes {
+
+class StatsCsv {
+public:
+  // `final_path` is DIR/stats.csv; rows go to DIR/stats.csv.partial until finish().
+  // Column names must be non-empty, unique, not "time", without , " or newlines
+  // (grainflow::Error otherwise, as for an unwritable path).
+  StatsCsv(std::filesystem::path final_path, std::vector<std::string> columns, double flush_interval_s = 1.0);
+  ~StatsCsv();  // flushes and closes; leaves the .partial file when finish() was not called
+  StatsCsv(const StatsCsv&) = delete;
+  StatsCsv& operator=(const StatsCsv&) = delete;
+
+  // One sample; values.size() must equal the number of columns.
+  void row(double time, std::span<const double> values);
+  void row(double time, std::initializer_list<double> values) { row(time, std::span<const double>(values.begin(), values.size())); }
+  void flush();
+  // Flushes, closes and renames .partial to the final name. Idempotent.
+  void finish();
+
+  const std::filesystem::path& final_path() const { return final_; }
+  const std::filesystem::path& partial_path() const { return partial_; }
+  const std::vector<std::string>& columns() const { return columns_; }
+  std::size_t rows() const { return rows_; }
+  bool finished() const { return finished_; }
+
+private:
+  void check_write(bool ok);
+  std::filesystem::path final_, partial_;
+  std::vector<std::string> columns_;
+  std::FILE* file_ = nullptr;
+  std::size_t rows_ = 0;
+  bool finished_ = false;
+  std::chrono::steady_clock::duration flush_interval_;
+  std::chrono::steady_clock::time_point last_flush_;
+  std::string line_;
+};
+
+// A CSV field for a double: shortest round-trip text; "nan", "inf", "-inf" for non-finite.
+std::string csv_number(double v);
+
+}  // namespace grainflow::scenes

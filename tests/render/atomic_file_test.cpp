@@ -1,0 +1,108 @@
+#include "engine/core/atomic_file.hpp"
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <iterator>
+#include <string>
+
+#include "engine/core/error.hpp"
+#include "output_test_support.hpp"
+
+namespace grainflow::core {
+namespace {
+
+namespace fs = std::filesystem;
+using render::test::fresh_dir;
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+int entries(const fs::path& dir) {
+  int n = 0;
+  for ([[maybe_unused]] const auto& e : fs::directory_iterator(dir)) ++n;
+  return n;
+}
+
+TEST(AtomicFile, FinalNameAppearsOnlyAtCommit) {
+  const fs::path dir = fresh_dir();
+  const fs::path target = dir / "stats.csv";
+  AtomicFile f(target);
+  EXPECT_EQ(f.final_path(), target);
+  EXPECT_EQ(f.path().parent_path(), dir) << "temporary must be in the target's directory (rename is atomic only there)";
+  EXPECT_NE(f.path(), target);
+  EXPECT_TRUE(fs::exists(f.path()));
+  { std::ofstream(f.path()) << "time,energy\n0,1\n"; }
+  EXPECT_FALSE(fs::exists(target));
+  f.commit();
+  EXPECT_TRUE(f.committed());
+  EXPECT_EQ(slurp(target), "time,energy\n0,1\n");
+  EXPECT_EQ(entries(dir), 1) << "the temporary is gone after commit";
+}
+
+TEST(AtomicFile, UncommittedIsRemovedAndOldFileKept) {
+  const fs::path dir = fresh_dir();
+  const fs::path target = dir / "frame.png";
+  { std::ofstream(target) << "previous run"; }
+  {
+    AtomicFile f(target);
+    std::ofstream(f.path()) << "half-written";
+    EXPECT_EQ(slurp(target), "previous run");
+  }  // destroyed without commit, as when an exception unwinds a writer
+  EXPECT_EQ(slurp(target), "previous run");
+  EXPECT_EQ(entries(dir), 1);
+}
+
+TEST(AtomicFile, CommitReplacesExistingFile) {
+  const fs::path dir = fresh_dir();
+  const fs::path target = dir / "out.txt";
+  { std::ofstream(target) << "old"; }
+  AtomicFile f(target);
+  { std::ofstream(f.path()) << "new"; }
+  f.commit();
+  EXPECT_EQ(slurp(target), "new");
+}
+
+TEST(AtomicFile, ExplicitAbortAndMove) {
+  const fs::path dir = fresh_dir();
+  AtomicFile a(dir / "a.bin");
+  const fs::path temp = a.path();
+  AtomicFile b(std::move(a));
+  EXPECT_TRUE(fs::exists(temp)) << "moving must not remove the temporary";
+  b.abort();
+  EXPECT_FALSE(fs::exists(temp));
+  EXPECT_THROW(b.commit(), Error);
+  EXPECT_EQ(entries(dir), 0);
+}
+
+TEST(AtomicFile, TwoWritersForOneTargetGetDistinctTemporaries) {
+  const fs::path dir = fresh_dir();
+  AtomicFile a(dir / "x"), b(dir / "x");
+  EXPECT_NE(a.path(), b.path());
+}
+
+TEST(AtomicFile, MissingDirectoryIsAnErrorNamingPathAndReason) {
+  const fs::path dir = fresh_dir();
+  const fs::path target = dir / "no_such_dir" / "out.mp4";
+  try {
+    AtomicFile f(target);
+    FAIL() << "expected grainflow::Error";
+  } catch (const Error& e) {
+    const std::string msg = e.what();
+    EXPECT_NE(msg.find(target.string()), std::string::npos) << msg;
+    EXPECT_NE(msg.find("No such file or directory"), std::string::npos) << msg;
+  }
+}
+
+TEST(AtomicFile, DoubleCommitIsAnError) {
+  const fs::path dir = fresh_dir();
+  AtomicFile f(dir / "y");
+  f.commit();
+  EXPECT_THROW(f.commit(), Error);
+  EXPECT_TRUE(fs::exists(dir / "y"));
+}
+
+}  // namespace
+}  // namespace grainflow::core

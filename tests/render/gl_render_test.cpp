@@ -1,0 +1,200 @@
+// Golden-image tests of the particle layers on both off-screen backends.
+//
+// Comparator thresholds (render/image/compare.hpp): a pixel counts as different when its
+// largest channel differs by more than kMaxChannel = 12 levels; at most kMaxFraction =
+// 0.05 % of the pixels (32 of a 320×200 frame) may differ. Why so loose rather than exact: the goldens are made
+// with Mesa 22.3.6 llvmpipe; other Mesa/LLVM versions round anti-aliased edges and the
+// sphere lighting slightly differently, which moves edge pixels by a few levels. A moved
+// particle changes hundreds of pixels by far more (the "must fail" test below proves it).
+//
+// GRAINFLOW_UPDATE_GOLDEN=1 rewrites the golden images (commit them with the reason).
+// On failure the actual image and a diff heat map are written to GRAINFLOW_TEST_OUT.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <string>
+
+#include "engine/core/error.hpp"
+#include "engine/core/rng.hpp"
+#include "render/context/gl_context.hpp"
+#include "render/frame_renderer.hpp"
+#include "render/image/compare.hpp"
+#include "render/output/png_io.hpp"
+
+namespace fs = std::filesystem;
+using namespace grainflow;
+using namespace grainflow::render;
+
+namespace {
+
+constexpr int kMaxChannel = 12;
+constexpr double kMaxFraction = 0.0005;
+
+// A 2D box of polydisperse disks on a jittered triangular lattice with a central obstacle,
+// coloured by a smooth function of position; deterministic through core::Rng.
+Snapshot disk_scene() {
+  Snapshot s;
+  s.dim = 2;
+  s.lo = {0, 0, 0};
+  s.hi = {24, 14, 0};
+  core::Rng rng(7);
+  for (int j = 0; j < 14; ++j)
+    for (int i = 0; i < 24; ++i) {
+      const double x = 0.5 + i + 0.5 * (j % 2) + 0.1 * rng.uniform(-1, 1);
+      const double y = 0.5 + j * 0.96 + 0.1 * rng.uniform(-1, 1);
+      if (std::hypot(x - 12, y - 7) < 3.2 || x > 23.6) continue;
+      const double r = 0.38 + 0.1 * rng.uniform();
+      s.pos_radius.insert(s.pos_radius.end(), {float(x), float(y), 0.f, float(r)});
+      s.attribute.push_back(float(std::sin(x / 4) + y / 14));
+    }
+  s.attribute_name = "test";
+  s.obstacles.push_back({{12, 7}, 2.5});
+  return s;
+}
+
+// A 5×4×3 block of spheres in a box, coloured by height, one of them NaN (grey).
+Snapshot sphere_scene() {
+  Snapshot s;
+  s.dim = 3;
+  s.lo = {0, 0, 0};
+  s.hi = {6, 5, 4};
+  for (int k = 0; k < 3; ++k)
+    for (int j = 0; j < 4; ++j)
+      for (int i = 0; i < 5; ++i) {
+        s.pos_radius.insert(s.pos_radius.end(), {0.9f + i * 1.05f, 0.9f + j * 1.05f, 0.6f + k * 1.05f, 0.5f});
+        s.attribute.push_back(float(k + 0.2 * i));
+      }
+  s.attribute[7] = std::nanf("");
+  return s;
+}
+
+std::unique_ptr<GlContext> context_or_skip(Backend b) {
+  try {
+    return create_context(b);
+  } catch (const Error& e) {
+    return nullptr;
+  }
+}
+
+void check_golden(const Image& actual, const std::string& name) {
+  const fs::path golden = fs::path(GRAINFLOW_GOLDEN_DIR) / (name + ".png");
+  if (std::getenv("GRAINFLOW_UPDATE_GOLDEN")) {
+    write_png(golden, actual, {6, true});
+    GTEST_SKIP() << "golden image rewritten: " << golden;
+  }
+  ASSERT_TRUE(fs::exists(golden)) << "missing golden image " << golden << " (GRAINFLOW_UPDATE_GOLDEN=1 makes it)";
+  const Image expected = read_png(golden);
+  const auto r = compare_images(actual, expected, {kMaxChannel, kMaxFraction});
+  if (!r.passed) {
+    fs::create_directories(GRAINFLOW_TEST_OUT);
+    write_png(fs::path(GRAINFLOW_TEST_OUT) / (name + ".actual.png"), actual);
+    write_png(fs::path(GRAINFLOW_TEST_OUT) / (name + ".diff.png"), diff_heatmap(actual, expected));
+  }
+  EXPECT_TRUE(r.passed) << name << ": max channel diff " << r.max_channel_diff << ", mean " << r.mean_abs_diff
+                        << ", fraction over " << r.fraction_over << " (actual and diff written to "
+                        << GRAINFLOW_TEST_OUT << ")";
+}
+
+class GlRender : public ::testing::TestWithParam<Backend> {
+protected:
+  void SetUp() override {
+    ctx_ = context_or_skip(GetParam());
+    if (!ctx_) GTEST_SKIP() << "no " << backend_name(GetParam()) << " context on this machine";
+  }
+  std::unique_ptr<GlContext> ctx_;
+};
+
+TEST_P(GlRender, DisksMatchGolden) {
+  FrameRenderer r(*ctx_, 320, 200);
+  FrameStyle style;
+  check_golden(r.render(disk_scene(), style), "disks_2d");
+}
+
+TEST_P(GlRender, SpheresMatchGolden) {
+  FrameRenderer r(*ctx_, 320, 240, 4);
+  FrameStyle style;
+  style.colormap = Colormap(ColormapId::inferno);
+  style.range = std::pair{0.0, 3.0};
+  check_golden(r.render(sphere_scene(), style), "spheres_3d");
+}
+
+// The comparator must notice a single moved particle at the thresholds used above.
+TEST_P(GlRender, MovedParticleFailsComparison) {
+  FrameRenderer r(*ctx_, 320, 200);
+  Snapshot s = disk_scene();
+  const Image before = r.render(s, {});
+  s.pos_radius[4 * 40] += 0.6f;  // one disk moved by 0.6 of a diameter
+  const Image after = r.render(s, {});
+  const auto res = compare_images(before, after, {kMaxChannel, kMaxFraction});
+  EXPECT_FALSE(res.passed);
+  EXPECT_GT(res.max_channel_diff, 60);
+}
+
+// Same scene twice, and across backends: identical pixels (deterministic rendering).
+TEST_P(GlRender, DeterministicAcrossFrames) {
+  FrameRenderer r(*ctx_, 160, 100);
+  const Image a = r.render(disk_scene(), {});
+  const Image b = r.render(disk_scene(), {});
+  EXPECT_EQ(a.rgba, b.rgba);
+}
+
+TEST_P(GlRender, ReadbackRowOrderIsTopFirst) {
+  // One big disk in the upper half of the domain must appear in the upper rows.
+  Snapshot s;
+  s.lo = {0, 0, 0};
+  s.hi = {10, 10, 0};
+  s.pos_radius = {5.f, 8.f, 0.f, 1.5f};
+  FrameStyle style;
+  style.draw_domain = false;
+  style.background = {0, 0, 0};
+  FrameRenderer r(*ctx_, 100, 100);
+  const Image& img = r.render(s, style);
+  const auto lit = [&](int x, int y) { return img.pixel(x, y)[0] + img.pixel(x, y)[1] + img.pixel(x, y)[2] > 0; };
+  EXPECT_TRUE(lit(50, 21));   // world y = 8 → image row ≈ 100·(1 − 0.8) (+ margin)
+  EXPECT_FALSE(lit(50, 79));  // world y = 2 is empty
+}
+
+TEST_P(GlRender, LargeParticlesUseQuadsAndStayRound) {
+  // A disk wider than the driver's largest point sprite: drawn by the quad path, the
+  // filled area matches π r² within 2 %.
+  Snapshot s;
+  s.lo = {0, 0, 0};
+  s.hi = {1, 1, 0};
+  s.pos_radius = {0.5f, 0.5f, 0.f, 0.4f};
+  FrameStyle style;
+  style.draw_domain = false;
+  style.background = {0, 0, 0};
+  FrameRenderer r(*ctx_, 800, 800);
+  const Image& img = r.render(s, style);
+  double covered = 0;
+  for (int y = 0; y < 800; ++y)
+    for (int x = 0; x < 800; ++x) covered += img.pixel(x, y)[3] > 0 && img.pixel(x, y)[1] > 0 ? 1 : 0;
+  const double ppu = 800 * (1 - 2 * 0.03);
+  const double expected = M_PI * std::pow(0.4 * ppu, 2);
+  EXPECT_NEAR(covered / expected, 1.0, 0.02);
+}
+
+TEST_P(GlRender, RejectsAbsurdSizes) {
+  EXPECT_THROW(FrameRenderer(*ctx_, 0, 100), Error);
+  EXPECT_THROW(FrameRenderer(*ctx_, 100000, 100), Error);
+}
+
+INSTANTIATE_TEST_SUITE_P(Backends, GlRender, ::testing::Values(Backend::Egl, Backend::OSMesa),
+                         [](const auto& info) { return std::string(backend_name(info.param)); });
+
+TEST(GlBackends, ParseBackendNames) {
+  EXPECT_EQ(parse_backend("auto"), Backend::Auto);
+  EXPECT_EQ(parse_backend("egl"), Backend::Egl);
+  EXPECT_EQ(parse_backend("osmesa"), Backend::OSMesa);
+  try {
+    parse_backend("vulkan");
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("vulkan"), std::string::npos);
+    EXPECT_NE(std::string(e.what()).find("auto, egl, osmesa"), std::string::npos);
+  }
+}
+
+}  // namespace
