@@ -1,5 +1,7 @@
 #include "render/frame_renderer.hpp"
 
+#include "render/panel_renderer.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -20,6 +22,12 @@ std::pair<double, double> finite_range(std::span<const float> values) {
 FrameRenderer::FrameRenderer(GlContext& context, int width, int height, int msaa_samples)
     : ctx_(context), fb_(context.gl(), width, height, msaa_samples), particles_(context.gl()), segments_(context.gl()) {}
 
+FrameRenderer::~FrameRenderer() = default;
+
+ViewTransform FrameRenderer::scene_view(const Snapshot& s, const FrameStyle& style, int w, int h) const {
+  return s.dim == 2 ? fit_2d(s.lo.head<2>(), s.hi.head<2>(), w, h) : fit_3d(s.lo, s.hi, style.camera, w, h);
+}
+
 const Image& FrameRenderer::render(const Snapshot& s, const FrameStyle& style) {
   const GlApi& gl = ctx_.gl();
   const int w = fb_.width(), h = fb_.height();
@@ -27,7 +35,28 @@ const Image& FrameRenderer::render(const Snapshot& s, const FrameStyle& style) {
   gl.ClearColor(style.background.r, style.background.g, style.background.b, 1.0f);
   gl.ClearDepth(1.0);
   gl.Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+  const ViewTransform view = scene_view(s, style, w, h);
+  draw_particles(s, style, view, w, h);
+  draw_geometry(s, style, view, w, h);
+  fb_.read(image_);
+  return image_;
+}
 
+const Image& FrameRenderer::render(const Snapshot& s, const FrameStyle& style, const FrameLayout& layout) {
+  const GlApi& gl = ctx_.gl();
+  if (!panels_) panels_ = std::make_unique<PanelRenderer>(gl);
+  fb_.bind();
+  gl.ClearColor(style.background.r, style.background.g, style.background.b, 1.0f);
+  gl.ClearDepth(1.0);
+  gl.Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+  panels_->draw(*this, s, style, layout, fb_.width(), fb_.height());
+  gl.Viewport(0, 0, fb_.width(), fb_.height());
+  fb_.read(image_);
+  return image_;
+}
+
+void FrameRenderer::draw_particles(const Snapshot& s, const FrameStyle& style, const ViewTransform& view, int w,
+                                   int h) {
   // Colour coordinates in [0, 1]; a constant attribute sits at the map's centre.
   values_.clear();
   ParticleDrawStyle pstyle{style.colormap, s.attribute_categorical, std::nullopt};
@@ -48,12 +77,16 @@ const Image& FrameRenderer::render(const Snapshot& s, const FrameStyle& style) {
     }
   }
 
+  if (s.dim == 2) particles_.draw_disks(view, w, h, s.pos_radius, values_, pstyle);
+  else particles_.draw_spheres(view, w, h, s.pos_radius, values_, pstyle);
+}
+
+void FrameRenderer::draw_geometry(const Snapshot& s, const FrameStyle& style, const ViewTransform& view, int w,
+                                  int h, bool plane_2d) {
   const Rgb edge = (style.background.r + style.background.g + style.background.b) > 1.5f ? Rgb{0.15f, 0.15f, 0.15f}
                                                                                           : Rgb{0.85f, 0.85f, 0.85f};
   geometry_.clear();
-  if (s.dim == 2) {
-    const ViewTransform view = fit_2d(s.lo.head<2>(), s.hi.head<2>(), w, h);
-    particles_.draw_disks(view, w, h, s.pos_radius, values_, pstyle);
+  if (s.dim == 2 || plane_2d) {
     // Obstacles: filled, then outlined, on top of the particles.
     if (!s.obstacles.empty()) {
       std::vector<float> obstacle_disks;
@@ -73,13 +106,9 @@ const Image& FrameRenderer::render(const Snapshot& s, const FrameStyle& style) {
     }
     segments_.draw(view, w, h, geometry_, false);
   } else {
-    const ViewTransform view = fit_3d(s.lo, s.hi, style.camera, w, h);
-    particles_.draw_spheres(view, w, h, s.pos_radius, values_, pstyle);
     if (style.draw_domain) add_box_edges(geometry_, s.lo, s.hi, edge, 1.5f);
     segments_.draw(view, w, h, geometry_, true);
   }
-  fb_.read(image_);
-  return image_;
 }
 
 }  // namespace grainflow::render

@@ -1,17 +1,31 @@
 // What the renderer draws: particles (position, radius, a colour attribute), the domain
-// and obstacles, and labels. Built by the scene layer from engine state or from particle
-// files; the renderer knows nothing about physics.
+// and obstacles, binned fields (seed 003 §4.1: density, kT, velocity on one grid) and
+// labels. Built by the scene layer from engine state or from particle files; the renderer
+// knows nothing about physics.
 #pragma once
+#include <optional>
 #include <string>
+#include <string_view>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Core>
+
+#include "engine/core/field_grid.hpp"
 
 namespace grainflow::render {
 
 struct Circle {
   Eigen::Vector2d centre{0, 0};
   double radius = 0;
+};
+
+// A named scalar field: `name` is what panels ask for ("density", "temperature",
+// "speed", …); `label` is the colour-bar label (e.g. "kT"), the name when empty.
+struct NamedField {
+  std::string name;
+  std::string label;
+  core::ScalarField field;
 };
 
 struct Snapshot {
@@ -25,7 +39,24 @@ struct Snapshot {
   std::vector<Circle> obstacles;      // 2D solid circles drawn on top
   double time = 0;
 
+  // Binned fields. All fields, scalar and vector, lie on the same GridGeometry; a bin with
+  // mask 0 (empty, solid) or a NaN/inf value is drawn in Colormap::kNanColour.
+  std::vector<NamedField> fields;
+  std::optional<core::VectorField> velocity;
+  // The stream velocity U: streamline panels may draw the flow relative to it.
+  std::optional<Eigen::Vector2d> reference_velocity;
+  // Caption line under the panels: `caption` when set, else "key = value" pairs joined
+  // (e.g. {"t", "120"}, {"U", "0.1"}, {"Re", "40"}, {"τ_E", "480"}, {"N", "160000"}).
+  std::string caption;
+  std::vector<std::pair<std::string, std::string>> labels;
+
   std::size_t size() const { return pos_radius.size() / 4; }
+  // The scalar field called `name`, or nullptr.
+  const NamedField* field(std::string_view name) const {
+    for (const auto& f : fields)
+      if (f.name == name) return &f;
+    return nullptr;
+  }
 };
 
 }  // namespace grainflow::render

@@ -34,6 +34,13 @@ struct GridGeometry {
 
 // Values live at bin centres. mask[i] == 0 marks a bin without data; readers must treat
 // its value as undefined (it may be NaN).
+// Zero of a value type: T{} leaves Eigen vectors uninitialised.
+template <class T>
+T zero_value() {
+  if constexpr (requires { T::Zero(); }) return T::Zero();
+  else return T{};
+}
+
 template <class T>
 struct Field {
   GridGeometry grid;
@@ -41,7 +48,7 @@ struct Field {
   std::vector<std::uint8_t> mask;  // 1 = valid, 0 = empty or solid
 
   Field() = default;
-  explicit Field(const GridGeometry& g, T init = T{})
+  explicit Field(const GridGeometry& g, T init = zero_value<T>())
       : grid(g), values(g.size(), init), mask(g.size(), 1) {}
 
   T& at(int ix, int iy) { return values[grid.index(ix, iy)]; }

@@ -129,6 +129,48 @@ TimerAgent* Simulation::add_timer(std::unique_ptr<TimerAgent> timer) {
   return s_.timers.back().get();
 }
 
+void Simulation::compact(const std::vector<int>& kept) {
+  const int n = static_cast<int>(kept.size());
+  for (int k = 0; k < n; ++k) {
+    const int i = kept[k];
+    s_.disk[k] = s_.disk[i];
+    s_.mass[k] = s_.mass[i];
+    s_.omega[k] = s_.omega[i];
+    s_.counter[k] = s_.counter[i];
+  }
+  s_.disk.resize(n);
+  s_.mass.resize(n);
+  s_.omega.resize(n);
+  s_.counter.resize(n);
+  s_.grid = CellGrid(s_.grid.lx(), s_.grid.ly(), s_.grid.periodic_x(), s_.grid.periodic_y(),
+                     cfg_.min_cell_size, std::max(1e-12, [&] {
+                       double d = kNever;
+                       for (const Disk& x : s_.disk) d = std::min(d, 2.0 * x.r);
+                       return n ? d : 1.0;
+                     }()));
+  s_.grid.resize_particles(n);
+  for (int i = 0; i < n; ++i) s_.grid.insert(i, s_.grid.cell_of_point(s_.disk[i].x, s_.disk[i].y));
+  s_.recompute_books();
+  restart();
+}
+
+CircularObstacle& Simulation::add_obstacle(const ObstacleConfig& o) {
+  const double margin = std::max(s_.grid.width(), s_.grid.height());
+  const Vec2 c = o.centre;
+  if (!(o.radius > 0.0) || c.x() - o.radius - margin < 0.0 || c.x() + o.radius + margin > cfg_.lx ||
+      c.y() - o.radius - margin < 0.0 || c.y() + o.radius + margin > cfg_.ly)
+    throw Error(fmt::format("ed: obstacle at ({}, {}) with radius {} must lie inside the {} x {} box with a "
+                            "margin of one cell ({})", c.x(), c.y(), o.radius, cfg_.lx, cfg_.ly, margin));
+  if (!(o.restitution >= 0.0 && o.restitution <= 1.0))
+    throw Error(fmt::format("ed: obstacle restitution = {} is invalid; allowed: 0 <= r <= 1", o.restitution));
+  if (!(o.kT > 0.0)) throw Error(fmt::format("ed: obstacle kT = {} is invalid; it must be positive", o.kT));
+  remove_disks_unless([&](int i) {
+    const Disk& d = s_.disk[i];
+    return std::hypot(d.x - c.x(), d.y - c.y()) >= o.radius + d.r;
+  });
+  return static_cast<CircularObstacle&>(*add_agent(std::make_unique<CircularObstacle>(o)));
+}
+
 void Simulation::run_until(double t) {
   if (t < s_.now())
     throw Error(fmt::format("ed: run_until({}) is before the current time {}", t, s_.now()));

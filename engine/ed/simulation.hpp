@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "engine/core/vec.hpp"
+#include "engine/ed/circular_obstacle.hpp"
 #include "engine/ed/event_loop.hpp"
 #include "engine/ed/initial_state.hpp"
 #include "engine/ed/system_state.hpp"
@@ -70,6 +71,19 @@ public:
     return static_cast<T&>(*add_timer(std::make_unique<T>(std::forward<Args>(args)...)));
   }
 
+  // Places a fixed circular obstacle, removing the disks it overlaps. Throws
+  // grainflow::Error when it does not lie inside the box with a cell's margin.
+  CircularObstacle& add_obstacle(const ObstacleConfig& obstacle);
+  // Removes the disks for which keep(i) is false (indices renumbered, order kept).
+  template <class Keep>
+  void remove_disks_unless(Keep keep) {
+    synchronise();
+    std::vector<int> kept;
+    for (int i = 0; i < s_.size(); ++i)
+      if (keep(i)) kept.push_back(i);
+    compact(kept);
+  }
+
   // Measurements over the window since the last reset (construction starts one).
   const Stats& stats() const { return s_.stats; }
   Observables observables() const { return s_.observables(); }
@@ -90,6 +104,7 @@ public:
 private:
   void build(std::vector<DiskInit> disks);
   void restart();
+  void compact(const std::vector<int>& kept);
 
   Config cfg_;
   SystemState s_;

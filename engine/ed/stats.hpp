@@ -26,9 +26,14 @@ struct Observables {
   double duration = 0.0;        // t − t0
   std::uint64_t collisions = 0;
   double kT = 0.0;              // time-averaged granular temperature (Eq. 4.9, i = 2)
-  double pressure = 0.0;        // collision-virial pressure
+  // Collision-virial pressure of hard disks in 2D (Alder & Wainwright 1960; Allen &
+  // Tildesley 1987 §3.7 with d = 2): P = [N <kT> + (1/(2t)) Σ_coll r_ij · Δp_i] / A,
+  // r_ij = r_i − r_j at contact, Δp_i the impulse on i; the sum is positive.
+  double pressure = 0.0;
   double compressibility = 0.0; // Z = P A / (N kT)
-  double mean_free_time = 0.0;  // t N / (2 · collisions)
+  // Mean time between two collisions of the same disk: each collision involves two disks,
+  // so τ = t N / (2 C) over a window of length t with C collisions.
+  double mean_free_time = 0.0;
   double collision_rate = 0.0;  // collisions per unit time per disk = 2 C / (N t)
 };
 

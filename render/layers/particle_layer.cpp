@@ -149,6 +149,9 @@ void ParticleLayer::draw_disks_splat(const ViewTransform& view, int width, int h
   gl_.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
   composite_.use();
   gl_.Uniform1i(composite_.uniform("u_image"), 1);
+  GLint viewport[4] = {0, 0, width, height};  // a panel's viewport starts off the origin
+  gl_.GetIntegerv(GL_VIEWPORT, viewport);
+  gl_.Uniform2f(composite_.uniform("u_origin"), float(viewport[0]), float(viewport[1]));
   gl_.Enable(GL_BLEND);
   gl_.BlendFuncSeparate(GL_ONE, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
   gl_.Disable(GL_DEPTH_TEST);

@@ -12,9 +12,9 @@ extern "C" {
 #include <string>
 
 #include "engine/core/error.hpp"
-#include "engine/engine_kinds.hpp"
 #include "render/context/gl_context.hpp"
 #include "scenes/src/commands.hpp"
+#include "scenes/src/engines.hpp"
 
 namespace grainflow::scenes {
 namespace {
@@ -41,7 +41,7 @@ void setup_info_command(CLI::App& app, int& status) {
   cmd->callback([&status] {
     std::printf("grainflow %s\n", GRAINFLOW_VERSION);
     std::printf("engines:\n");
-    for (const auto& k : engine_kinds())
+    for (const auto& k : engines())
       std::printf("  %-7.*s %.*s\n", int(k.name.size()), k.name.data(), int(k.description.size()),
                   k.description.data());
     std::printf("GL backends (--backend auto tries egl, then osmesa):\n");

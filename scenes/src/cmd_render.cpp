@@ -1,7 +1,10 @@
 // `grainflow render FILE -o DIR`: renders particle snapshots written by other tools
 // (LAMMPS/LIGGGHTS text dumps, extended XYZ) headlessly → DIR/frames/*.png and DIR/<name>.mp4.
 // Encoding runs on its own thread (AsyncSink) while the next frame is read and drawn.
+// With --panels, each frame's particles are binned (engine/core/binning.hpp; 3D files
+// averaged over z onto the x–y plane) and the fields drawn in a grid of panels.
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
@@ -9,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "engine/core/binning.hpp"
 #include "engine/core/error.hpp"
 #include "engine/core/particle_reader.hpp"
 #include "render/context/gl_context.hpp"
@@ -41,7 +45,37 @@ struct RenderArgs {
   double azimuth = 35, elevation = 25;
   bool orthographic = false;
   bool force = false;
+  std::vector<std::string> panels;  // empty: one full-frame particle picture
+  std::vector<int> bins{60, 60};
+  std::vector<int> layout;          // cols rows; default: a near-square grid for the panels
 };
+
+// Bins the frame on the x–y plane of its box and stores the fields in the snapshot.
+void add_binned_fields(const core::ParticleFrame& frame, const Eigen::Vector3d& lo, const Eigen::Vector3d& hi,
+                       const std::vector<int>& bins, render::Snapshot& s) {
+  core::BinningOptions opt;
+  opt.grid.nx = bins[0];
+  opt.grid.ny = bins[1];
+  opt.grid.lo = Vec2(lo.x(), lo.y());
+  opt.grid.hi = Vec2(hi.x(), hi.y());
+  core::BinnedFields f = core::bin_frame(frame, opt);
+  s.fields.clear();
+  s.fields.push_back({"density", "n", std::move(f.density)});
+  if (f.temperature) s.fields.push_back({"temperature", "kT", std::move(*f.temperature)});
+  if (f.mean_speed) s.fields.push_back({"speed", "<|v|>", std::move(*f.mean_speed)});
+  if (f.mean_velocity) s.velocity = std::move(*f.mean_velocity);
+  else s.velocity.reset();
+  s.labels.clear();
+  char buf[64];
+  if (std::isfinite(frame.time)) {
+    std::snprintf(buf, sizeof buf, "%g", frame.time);
+    s.labels.emplace_back("t", buf);
+  } else if (frame.timestep >= 0) {
+    s.labels.emplace_back("step", std::to_string(frame.timestep));
+  }
+  s.labels.emplace_back("N", std::to_string(frame.size()));
+  s.labels.emplace_back("bins", std::to_string(bins[0]) + " × " + std::to_string(bins[1]));
+}
 
 // A folder that already holds output is never overwritten silently.
 void prepare_output_dir(const fs::path& dir, bool force) {
@@ -70,6 +104,23 @@ int run_render(const RenderArgs& a) {
     throw Error("--range must be two numbers LO HI with LO < HI");
   if (a.every < 1) throw Error("--every must be ≥ 1");
   if (!a.png && !a.mp4) throw Error("nothing to write: --no-png and --no-mp4 together");
+  if (a.bins.size() != 2 || a.bins[0] < 1 || a.bins[1] < 1 || a.bins[0] > 4096 || a.bins[1] > 4096)
+    throw Error("--bins must be two integers NX NY, each in 1..4096");
+  std::optional<render::FrameLayout> layout;
+  if (!a.panels.empty()) {
+    int cols = 0, rows = 0;
+    if (!a.layout.empty()) {
+      if (a.layout.size() != 2) throw Error("--layout must be two integers COLS ROWS");
+      cols = a.layout[0];
+      rows = a.layout[1];
+    } else {
+      cols = int(std::ceil(std::sqrt(double(a.panels.size()))));
+      rows = int((a.panels.size() + std::size_t(cols) - 1) / std::size_t(cols));
+    }
+    layout = render::make_layout(cols, rows, a.panels);  // names and fit checked here
+  } else if (!a.layout.empty()) {
+    throw Error("--layout needs --panels (e.g. --panels particles,density,temperature,streamlines)");
+  }
 
   auto reader = core::open_particle_file(a.input);
   core::ParticleFrame frame;
@@ -124,7 +175,9 @@ int run_render(const RenderArgs& a) {
     to_snapshot(frame, attribute, snapshot);
     snapshot.lo = lo;
     snapshot.hi = hi;
-    output.consume(renderer.render(snapshot, style), written, snapshot.time);
+    if (layout) add_binned_fields(frame, lo, hi, a.bins, snapshot);
+    output.consume(layout ? renderer.render(snapshot, style, *layout) : renderer.render(snapshot, style), written,
+                   snapshot.time);
     ++written;
     const auto now = clock::now();
     if (now - last_report > std::chrono::seconds(2)) {
@@ -168,6 +221,13 @@ void setup_render_command(CLI::App& app, int& status) {
   cmd->add_flag("!--no-png", args->png, "Do not write the PNG sequence");
   cmd->add_flag("!--no-mp4", args->mp4, "Do not write the MP4");
   cmd->add_flag("--force", args->force, "Replace frames already in the output folder");
+  cmd->add_option("--panels", args->panels,
+                  "Panels of each frame, filled row by row: particles, density, temperature, speed, streamlines, "
+                  "velocity (fields binned from the particles; 3D: averaged over z)")
+      ->delimiter(',');
+  cmd->add_option("--bins", args->bins, "Bins of the field grid: NX NY")->expected(2)->capture_default_str();
+  cmd->add_option("--layout", args->layout, "Panel grid: COLS ROWS (default: near-square for the panels)")
+      ->expected(2);
   cmd->callback([args, &status] { status = run_render(*args); });
 }
 

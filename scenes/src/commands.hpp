@@ -7,6 +7,7 @@
 
 namespace grainflow::scenes {
 
+void setup_run_command(CLI::App& app, int& status);
 void setup_info_command(CLI::App& app, int& status);
 void setup_render_command(CLI::App& app, int& status);
 void setup_diff_command(CLI::App& app, int& status);

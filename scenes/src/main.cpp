@@ -12,6 +12,7 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   int status = 0;
   // The one registration place for subcommands.
+  setup_run_command(app, status);
   setup_info_command(app, status);
   setup_render_command(app, status);
   setup_diff_command(app, status);

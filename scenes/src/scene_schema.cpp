@@ -1,4 +1,5 @@
 #include "scenes/src/scene_schema.hpp"
+#include "scenes/src/engines.hpp"
 
 #include <cmath>
 #include <map>
@@ -236,16 +237,6 @@ const KeySpec* Schema::find_key(std::string_view dotted) const {
   return t ? t->find_key(dotted.substr(dot + 1)) : nullptr;
 }
 
-// ---- the one registration place for engine schemas ----
-
-const std::vector<EngineSchema>& engine_schemas() {
-  static const std::vector<EngineSchema> list = {
-      {"ed", &add_ed_schema},
-      {"dem", &add_dem_schema},
-  };
-  return list;
-}
-
 const std::vector<std::string>& engine_section_names() {
   static const std::vector<std::string> names = {"system", "boundary"};
   return names;
@@ -265,11 +256,11 @@ const Schema& schema_for_engine(std::string_view engine) {
   static std::map<std::string, std::unique_ptr<Schema>, std::less<>> built;
   std::lock_guard lock(mutex);
   if (auto it = built.find(engine); it != built.end()) return *it->second;
-  for (const auto& e : engine_schemas()) {
-    if (e.engine == engine) {
+  for (const auto& e : engines()) {
+    if (e.name == engine) {
       auto s = std::make_unique<Schema>();
       add_common_schema(*s);
-      e.add(*s);
+      e.add_schema(*s);
       const Schema& ref = *s;
       built.emplace(std::string(engine), std::move(s));
       return ref;

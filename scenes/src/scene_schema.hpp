@@ -155,12 +155,8 @@ void add_common_schema(Schema& s);
 void add_ed_schema(Schema& s);
 void add_dem_schema(Schema& s);
 
-struct EngineSchema {
-  std::string_view engine;  // run.engine value
-  void (*add)(Schema&);
-};
-// The engines a scene may name, in the order `run.engine` lists them.
-const std::vector<EngineSchema>& engine_schemas();
+// The engines a scene may name, in the order `run.engine` lists them: engines() in
+// scenes/src/engines.hpp, the one registration place (schema + runner per engine).
 // Sections that only engines fill: known names even when run.engine is invalid.
 const std::vector<std::string>& engine_section_names();
 // Common + engine schema, built once per engine. Throws grainflow::Error for an unknown engine.

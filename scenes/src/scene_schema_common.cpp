@@ -4,6 +4,7 @@
 #include <string>
 
 #include "scenes/src/scene.hpp"
+#include "scenes/src/engines.hpp"
 #include "scenes/src/scene_schema.hpp"
 
 namespace grainflow::scenes {
@@ -12,7 +13,7 @@ namespace {
 
 std::vector<std::string> engine_names() {
   std::vector<std::string> names;
-  for (const auto& e : engine_schemas()) names.emplace_back(e.engine);
+  for (const auto& e : engines()) names.emplace_back(e.name);
   return names;
 }
 

@@ -37,7 +37,8 @@ void add_ed_schema(Schema& s) {
   sys.add_float("tau_tc", 0.0, "TC model time: a collision within tau_tc of the previous one is elastic (§5)",
                 "τ")
       .at_least(0.0);
-  sys.add_enum("calendar", {"cell_heap"}, "cell_heap", "event calendar: heap of cells, each holding its earliest event (§2.4)");
+  sys.add_enum("calendar", {"bucket", "cell_heap"}, "bucket",
+               "event calendar: bucket queue of one event per disk (fastest), or the seed's heap of cells (§2.4)");
   sys.add_float("cell_size", 1.2, "target side of the cells (§2.2: ≈ 1.2 σ at η = 0.65)", "σ")
       .above(1.0)
       .with_note("cells must be larger than a disk diameter");

@@ -1,4 +1,5 @@
 #include "scenes/src/scene_validate.hpp"
+#include "scenes/src/engines.hpp"
 
 #include <cmath>
 #include <memory>
@@ -413,10 +414,10 @@ ValidatedScene validate_scene(const toml::table& doc, const Origins& origins, co
   const toml::node* engine_node = toml::at_path(doc, "run.engine").node();
   const Schema* schema = &common_schema();
   if (engine_node && engine_node->is_string()) {
-    for (const auto& e : engine_schemas())
-      if (e.engine == engine_node->as_string()->get()) {
-        result.engine = std::string(e.engine);
-        schema = &schema_for_engine(e.engine);
+    for (const auto& e : engines())
+      if (e.name == engine_node->as_string()->get()) {
+        result.engine = std::string(e.name);
+        schema = &schema_for_engine(e.name);
       }
   }
   result.schema = schema;

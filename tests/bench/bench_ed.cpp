@@ -1,7 +1,7 @@
 // Throughput of the ED hard-disk engine (seed 003 ch. 2): collisions per second on one
 // core for the equilibrium periodic box at η = 0.65, kT = 0.02, for each calendar, after
 // an equilibration period; reports the median of the timed windows and memory per disk.
-// Usage: bench_ed [N ...] [--repeats R] [--per-disk C] [--calendar cell_heap|bucket]
+// Usage: bench_ed [N ...] [--repeats R] [--per-disk C] [--calendar cell_heap|bucket] [--cell S]
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -21,12 +21,14 @@ int main(int argc, char** argv) try {
   std::vector<int> sizes;
   int repeats = 3;
   double per_disk = 20.0;  // timed collisions per disk in each window
+  double cell = 1.2;       // minimum cell edge in σ (seed 003 §2.2: optimum ≈ 1.2 at η = 0.65)
   std::vector<ed::CalendarKind> cals = {ed::CalendarKind::cell_heap, ed::CalendarKind::bucket};
   for (int a = 1; a < argc; ++a) {
     const std::string s = argv[a];
     if (s == "--repeats" && a + 1 < argc) repeats = std::atoi(argv[++a]);
     else if (s == "--per-disk" && a + 1 < argc) per_disk = std::atof(argv[++a]);
     else if (s == "--calendar" && a + 1 < argc) cals = {ed::calendar_from_name(argv[++a])};
+    else if (s == "--cell" && a + 1 < argc) cell = std::atof(argv[++a]);
     else sizes.push_back(static_cast<int>(std::atof(s.c_str())));
   }
   if (sizes.empty()) sizes = {10000, 160000, 1000000};
@@ -44,6 +46,7 @@ int main(int argc, char** argv) try {
       c.kT = 0.02;
       c.seed = 1;
       c.calendar = cal;
+      c.min_cell_size = cell;
       ed::Simulation sim(c);
       // Equilibration: melt the lattice (≈ 10 collisions per disk).
       while (sim.stats().collisions < 10ull * n) sim.advance(100000);

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "scenes/src/scene.hpp"
+#include "scenes/src/engines.hpp"
 #include "scenes/src/scene_schema.hpp"
 #include "scenes/src/scene_suggest.hpp"
 
@@ -317,8 +318,8 @@ TEST(SceneSuggest, EditDistance) {
 }
 
 TEST(SceneSchema, DescribeListsEveryKey) {
-  for (const auto& e : engine_schemas()) {
-    const Schema& s = schema_for_engine(e.engine);
+  for (const auto& e : engines()) {
+    const Schema& s = schema_for_engine(e.name);
     const std::string d = describe_schema(s);
     for (const auto& t : s.tables())
       for (const auto& k : t.keys())

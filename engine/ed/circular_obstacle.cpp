@@ -1,0 +1,58 @@
+#include "engine/ed/circular_obstacle.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "engine/ed/system_state.hpp"
+
+namespace grainflow::ed {
+
+CircularObstacle::CircularObstacle(const ObstacleConfig& cfg) : cfg_(cfg), rng_(cfg.seed) {}
+
+void CircularObstacle::cells(const CellGrid& g, std::vector<int>& out) const {
+  // A disk touching the obstacle has its centre within radius + cell diagonal of the
+  // centre; any cell whose nearest point lies within radius + one cell size may host it.
+  const double reach = cfg_.radius + std::max(g.width(), g.height());
+  for (int iy = 0; iy < g.ny(); ++iy)
+    for (int ix = 0; ix < g.nx(); ++ix) {
+      const double qx = std::clamp(cfg_.centre.x(), ix * g.width(), (ix + 1) * g.width());
+      const double qy = std::clamp(cfg_.centre.y(), iy * g.height(), (iy + 1) * g.height());
+      if (std::hypot(qx - cfg_.centre.x(), qy - cfg_.centre.y()) <= reach) out.push_back(g.index(ix, iy));
+    }
+}
+
+double CircularObstacle::event_time(const SystemState& s, int i) const {
+  const Disk& d = s.disk[i];
+  return pair_collision_time(d.x - cfg_.centre.x(), d.y - cfg_.centre.y(), d.vx, d.vy, cfg_.radius + d.r);
+}
+
+void CircularObstacle::action(SystemState& s, int i) {
+  const Disk& d = s.disk[i];
+  const double rx = d.x - cfg_.centre.x(), ry = d.y - cfg_.centre.y();
+  const double inv = 1.0 / std::hypot(rx, ry);
+  const double nx = rx * inv, ny = ry * inv;  // outward normal
+  const double vn = d.vx * nx + d.vy * ny;     // < 0 on impact
+  const double vt = -d.vx * ny + d.vy * nx;    // along (−n_y, n_x)
+  double vn1 = -cfg_.restitution * vn, vt1 = vt;
+  switch (cfg_.boundary) {
+    case ObstacleBoundary::slip:
+      break;
+    case ObstacleBoundary::flip:
+      if (rng_.uniform() < 0.5) vt1 = -vt;
+      break;
+    case ObstacleBoundary::thermal: {
+      // Diffuse re-emission from a wall at kT_b: the flux-weighted normal speed has the
+      // Rayleigh density (m v/kT) exp(−m v²/2kT), the tangential one is Gaussian.
+      const double s2 = cfg_.kT / s.mass[i];
+      vn1 = std::sqrt(-2.0 * s2 * std::log(rng_.uniform_pos()));
+      vt1 = std::sqrt(s2) * rng_.normal();
+      break;
+    }
+  }
+  const double vx = vn1 * nx - vt1 * ny, vy = vn1 * ny + vt1 * nx;
+  impulse_ -= s.mass[i] * Vec2{vx - d.vx, vy - d.vy};
+  ++hits_;
+  s.set_velocity(i, vx, vy);
+}
+
+}  // namespace grainflow::ed

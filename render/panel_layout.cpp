@@ -1,0 +1,92 @@
+#include "render/panel_layout.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+#include "engine/core/error.hpp"
+
+namespace grainflow::render {
+
+namespace {
+constexpr std::array<std::string_view, 6> kNames = {"particles", "density", "temperature",
+                                                    "speed",     "streamlines", "velocity"};
+}
+
+std::span<const std::string_view> panel_names() { return kNames; }
+
+PanelSpec panel_from_name(std::string_view name) {
+  PanelSpec p;
+  if (name == "particles") {
+    p.kind = PanelKind::particles;
+  } else if (name == "density") {
+    p.kind = PanelKind::field;
+    p.field = "density";
+    p.title = "density";
+  } else if (name == "temperature") {
+    p.kind = PanelKind::field;
+    p.field = "temperature";
+    p.title = "temperature";
+    p.colormap = Colormap(ColormapId::inferno);
+  } else if (name == "speed") {
+    p.kind = PanelKind::field;
+    p.field = "speed";
+    p.title = "speed";
+  } else if (name == "streamlines") {
+    p.kind = PanelKind::streamlines;
+    p.title = "streamlines";
+  } else if (name == "velocity") {
+    p.kind = PanelKind::velocity;
+    p.title = "velocity";
+    p.streamlines.quiver = true;
+    p.streamlines.colour_by_speed = true;
+    p.streamlines.width_px = 1.2f;
+    p.streamlines.arrow_px = 5.0f;
+  } else {
+    std::string allowed;
+    for (auto n : kNames) allowed += std::string(allowed.empty() ? "" : ", ") + std::string(n);
+    throw Error("panel '" + std::string(name) + "' is not known; allowed: " + allowed);
+  }
+  return p;
+}
+
+FrameLayout make_layout(int cols, int rows, std::span<const std::string> names) {
+  if (cols < 1 || cols > 8 || rows < 1 || rows > 8)
+    throw Error("layout " + std::to_string(cols) + " × " + std::to_string(rows) +
+                " is not allowed; allowed: 1..8 columns × 1..8 rows");
+  if (names.size() > std::size_t(cols) * std::size_t(rows))
+    throw Error(std::to_string(names.size()) + " panels do not fit a " + std::to_string(cols) + " × " +
+                std::to_string(rows) + " layout; allowed: at most " + std::to_string(cols * rows));
+  FrameLayout l;
+  l.cols = cols;
+  l.rows = rows;
+  for (const auto& n : names) l.panels.push_back(panel_from_name(n));
+  return l;
+}
+
+FrameGeometry layout_frame(const FrameLayout& layout, int width, int height, bool with_caption) {
+  FrameGeometry g;
+  g.caption_px = std::clamp(int(std::lround(height * 0.022)), 10, 24);
+  const int caption_h = with_caption ? int(std::lround(g.caption_px * 1.8)) : 0;
+  g.caption = {0, height - caption_h, width, caption_h};
+  const int area_h = height - caption_h;
+  const int cols = std::max(layout.cols, 1), rows = std::max(layout.rows, 1);
+  for (int r = 0; r < rows; ++r)
+    for (int c = 0; c < cols; ++c) {
+      PanelGeometry p;
+      const int x0 = c * width / cols, x1 = (c + 1) * width / cols;
+      const int y0 = r * area_h / rows, y1 = (r + 1) * area_h / rows;
+      p.panel = {x0, y0, x1 - x0, y1 - y0};
+      p.title_px = std::clamp(int(std::lround(std::min(p.panel.h * 0.07, p.panel.w * 0.05))), 10, 28);
+      p.tick_px = std::max(9, int(std::lround(p.title_px * 0.8)));
+      const int title_h = int(std::lround(p.title_px * 1.7));
+      p.title = {x0, y0, p.panel.w, title_h};
+      // Room right of the picture for the colour bar, its ticks and labels (≈ 7 digits).
+      const int bar_area = int(std::lround(p.tick_px * 6.5));
+      p.plot = {x0, y0 + title_h, std::max(p.panel.w - bar_area, 1), std::max(p.panel.h - title_h, 1)};
+      g.panels.push_back(p);
+    }
+  return g;
+}
+
+}  // namespace grainflow::render

@@ -1,0 +1,177 @@
+#include "render/panel_renderer.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "render/layers/colour_bar.hpp"
+
+namespace grainflow::render {
+
+std::string caption_text(const Snapshot& s) {
+  if (!s.caption.empty()) return s.caption;
+  std::string out;
+  for (const auto& [k, v] : s.labels) out += (out.empty() ? "" : "     ") + k + " = " + v;
+  return out;
+}
+
+PanelRenderer::PanelRenderer(const GlApi& gl) : gl_(gl), text_(gl), fields_(gl), streamlines_(gl) {}
+
+const core::ScalarField& PanelRenderer::speed_field(const core::VectorField& v, const Vec2& reference) {
+  speed_.grid = v.grid;
+  speed_.values.resize(v.values.size());
+  speed_.mask.resize(v.values.size());
+  for (std::size_t i = 0; i < v.values.size(); ++i) {
+    const Vec2 d = v.values[i] - reference;
+    const bool ok = (v.mask.empty() || v.mask[i]) && std::isfinite(d.x()) && std::isfinite(d.y());
+    speed_.values[i] = ok ? d.norm() : std::nan("");
+    speed_.mask[i] = ok ? 1 : 0;
+  }
+  return speed_;
+}
+
+namespace {
+// Frame-pixel bounding box of the world rectangle [lo, hi] seen through `view` in `plot`.
+PixelRect projected_rect(const ViewTransform& view, const PixelRect& plot, const Eigen::Vector2d& lo,
+                         const Eigen::Vector2d& hi) {
+  const Mat4 vp = view.view_proj();
+  auto px = [&](double x, double y) {
+    const Eigen::Vector4f c = vp * Eigen::Vector4f(float(x), float(y), 0.f, 1.f);
+    return Eigen::Vector2d(plot.x + (c.x() / c.w() + 1) * 0.5 * plot.w, plot.y + (1 - c.y() / c.w()) * 0.5 * plot.h);
+  };
+  const Eigen::Vector2d a = px(lo.x(), lo.y()), b = px(hi.x(), hi.y());
+  const int x0 = int(std::lround(std::min(a.x(), b.x()))), x1 = int(std::lround(std::max(a.x(), b.x())));
+  const int y0 = int(std::lround(std::min(a.y(), b.y()))), y1 = int(std::lround(std::max(a.y(), b.y())));
+  return {x0, y0, x1 - x0, y1 - y0};
+}
+
+std::string default_title(const PanelSpec& p, const Snapshot& s) {
+  if (!p.title.empty()) return p.title;
+  switch (p.kind) {
+    case PanelKind::particles: return s.attribute_name.empty() ? "particles" : "particles: " + s.attribute_name;
+    case PanelKind::field: return p.field;
+    case PanelKind::streamlines: return "streamlines";
+    case PanelKind::velocity: return "velocity";
+  }
+  return {};
+}
+}  // namespace
+
+void PanelRenderer::draw(FrameRenderer& frame, const Snapshot& s, const FrameStyle& style, const FrameLayout& layout,
+                         int width, int height) {
+  const std::string caption = layout.caption ? caption_text(s) : std::string();
+  const FrameGeometry geo = layout_frame(layout, width, height, !caption.empty());
+  const bool light = (style.background.r + style.background.g + style.background.b) > 1.5f;
+  const Rgb ink = light ? Rgb{0.1f, 0.1f, 0.1f} : Rgb{0.9f, 0.9f, 0.9f};
+  const Vec2 reference = s.reference_velocity ? Vec2(*s.reference_velocity) : Vec2(0.0, 0.0);
+  solids_.clear();
+  for (const auto& c : s.obstacles) solids_.push_back({c.centre, c.radius});
+  overlay_.clear();
+  bars_.clear();
+  streamline_count_ = 0;
+
+  gl_.Enable(GL_SCISSOR_TEST);
+  const std::size_t n = std::min(layout.panels.size(), geo.panels.size());
+  for (std::size_t i = 0; i < n; ++i) {
+    const PanelSpec& spec = layout.panels[i];
+    const PanelGeometry& g = geo.panels[i];
+    const PixelRect& plot = g.plot;
+    // GL's window origin is the bottom-left corner.
+    gl_.Viewport(plot.x, height - plot.bottom(), plot.w, plot.h);
+    gl_.Scissor(plot.x, height - plot.bottom(), plot.w, plot.h);
+    const bool planar = spec.kind != PanelKind::particles;
+    const ViewTransform view = planar ? fit_2d(s.lo.head<2>(), s.hi.head<2>(), plot.w, plot.h)
+                                      : frame.scene_view(s, style, plot.w, plot.h);
+    const Colormap cmap = spec.colormap ? *spec.colormap : style.colormap;
+    std::optional<PendingBar> bar;
+    std::string missing;
+
+    switch (spec.kind) {
+      case PanelKind::particles: {
+        frame.draw_particles(s, style, view, plot.w, plot.h);
+        frame.draw_geometry(s, style, view, plot.w, plot.h);
+        if (!s.attribute.empty() && !s.attribute_categorical)
+          bar = PendingBar{{}, style.range ? *style.range : finite_range(s.attribute), style.colormap,
+                           s.attribute_name, g.tick_px};
+        break;
+      }
+      case PanelKind::field: {
+        const core::ScalarField* f = nullptr;
+        std::string label = spec.field;
+        if (const NamedField* nf = s.field(spec.field)) {
+          f = &nf->field;
+          if (!nf->label.empty()) label = nf->label;
+        } else if (spec.field == "speed" && s.velocity) {
+          f = &speed_field(*s.velocity, Vec2(0.0, 0.0));
+          label = "|v|";
+        }
+        if (!f) {
+          missing = "no " + spec.field + " field";
+          break;
+        }
+        const auto range = resolve_range(*f, spec.range);
+        fields_.draw(view, *f, range, cmap, spec.filter);
+        frame.draw_geometry(s, style, view, plot.w, plot.h, true);
+        bar = PendingBar{{}, range, cmap, label, g.tick_px};
+        break;
+      }
+      case PanelKind::streamlines:
+      case PanelKind::velocity: {
+        if (!s.velocity) {
+          missing = "no velocity field";
+          break;
+        }
+        const bool relative = spec.streamlines.relative_to_reference && s.reference_velocity;
+        const std::string speed_label = relative ? "|v − U|" : "|v|";
+        std::pair<double, double> range;
+        if (spec.kind == PanelKind::streamlines) {
+          const auto& speed = speed_field(*s.velocity, relative ? reference : Vec2(0.0, 0.0));
+          range = resolve_range(speed, spec.range);
+          fields_.draw(view, speed, range, cmap, spec.filter);
+          streamlines_.draw(view, plot.w, plot.h, *s.velocity, solids_, spec.streamlines, reference);
+        } else {
+          StreamlineStyle st = spec.streamlines;
+          st.colormap = cmap;
+          range = streamlines_.draw(view, plot.w, plot.h, *s.velocity, solids_, st, reference);
+        }
+        streamline_count_ += streamlines_.last_line_count();
+        frame.draw_geometry(s, style, view, plot.w, plot.h, true);
+        bar = PendingBar{{}, range, cmap, speed_label, g.tick_px};
+        break;
+      }
+    }
+
+    text_.add(default_title(spec, s), float(g.panel.x + 0.5 * g.panel.w), float(g.title.y + 0.55 * g.title.h),
+              g.title_px, ink, TextAlign::centre, TextAnchor::middle);
+    if (!missing.empty())
+      text_.add(missing, float(plot.x + 0.5 * plot.w), float(plot.y + 0.5 * plot.h), g.tick_px, ink,
+                TextAlign::centre, TextAnchor::middle);
+    if (bar && spec.colour_bar) {
+      // Beside the drawn domain, as tall as it, leaving room for the label above.
+      const PixelRect dom = projected_rect(view, plot, s.lo.head<2>(), s.hi.head<2>());
+      const int gap = std::max(4, int(0.7 * g.tick_px));
+      const int top = std::max(dom.y, plot.y + int(1.5 * g.tick_px));
+      const int bottom = std::min(dom.bottom(), g.panel.bottom() - g.tick_px / 2);
+      const int x = planar || s.dim == 2 ? std::min(dom.right(), plot.right()) + gap : plot.right() + gap;
+      bar->rect = {x, top, std::max(6, int(std::lround(0.9 * g.tick_px))), bottom - top};
+      bars_.push_back(*bar);
+    }
+  }
+  gl_.Disable(GL_SCISSOR_TEST);
+  gl_.Viewport(0, 0, width, height);
+
+  const ViewTransform pixel = pixel_view(width, height);
+  ColourBarStyle bar_style;
+  bar_style.ink = ink;
+  for (const auto& b : bars_) {
+    bar_style.font_px = b.font_px;
+    bar_style.tick_px = std::max(3, b.font_px / 3);
+    draw_colour_bar(fields_, pixel, b.rect, b.range, b.colormap, b.label, bar_style, overlay_, text_);
+  }
+  if (!caption.empty())
+    text_.add(caption, float(geo.caption_px), float(geo.caption.y + 0.5 * geo.caption.h), geo.caption_px, ink,
+              TextAlign::left, TextAnchor::middle);
+  frame.segments_.draw(pixel, width, height, overlay_, false);
+  text_.draw(width, height);
+}
+
+}  // namespace grainflow::render

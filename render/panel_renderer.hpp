@@ -1,0 +1,55 @@
+// Draws a FrameLayout (render/panel_layout.hpp) into the FrameRenderer's framebuffer: per
+// panel a viewport and scissor, its picture (particles, field map, streamlines, quiver),
+// obstacles and walls on top; then, over the whole frame, colour bars, titles and the
+// caption — all text in one instanced batch, all overlay lines in one segment batch.
+#pragma once
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "engine/core/field_grid.hpp"
+#include "render/frame_renderer.hpp"
+#include "render/layers/field_map_layer.hpp"
+#include "render/layers/streamline_layer.hpp"
+#include "render/layers/text_renderer.hpp"
+
+namespace grainflow::render {
+
+// The caption line of a snapshot: its caption, else "k = v" labels joined by spaces.
+std::string caption_text(const Snapshot& s);
+
+class PanelRenderer {
+public:
+  explicit PanelRenderer(const GlApi& gl);
+
+  // Into the currently bound width × height framebuffer (already cleared).
+  void draw(FrameRenderer& frame, const Snapshot& s, const FrameStyle& style, const FrameLayout& layout, int width,
+            int height);
+
+  TextRenderer& text() { return text_; }
+  std::size_t last_streamline_count() const { return streamline_count_; }
+
+private:
+  struct PendingBar {
+    PixelRect rect;
+    std::pair<double, double> range;
+    Colormap colormap;
+    std::string label;
+    int font_px;
+  };
+
+  // |v − reference| on the velocity grid; invalid where v is masked or not finite.
+  const core::ScalarField& speed_field(const core::VectorField& v, const Vec2& reference);
+
+  const GlApi& gl_;
+  TextRenderer text_;
+  FieldMapLayer fields_;
+  StreamlineLayer streamlines_;
+  core::ScalarField speed_;
+  std::vector<SolidCircle> solids_;
+  std::vector<Segment> overlay_;
+  std::vector<PendingBar> bars_;
+  std::size_t streamline_count_ = 0;
+};
+
+}  // namespace grainflow::render

@@ -1,0 +1,49 @@
+// What the run loop (`grainflow run`) needs from an engine, whatever its physics: advance
+// in simulated time, draw its state into a Snapshot, give a stats.csv row and its
+// throughput. One adapter per engine (ed_runner.cpp, dem_runner.cpp), registered in
+// engines.cpp.
+#pragma once
+#include <memory>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+#include "render/snapshot.hpp"
+
+namespace grainflow::scenes {
+
+class Scene;
+
+class EngineRunner {
+public:
+  virtual ~EngineRunner() = default;
+
+  virtual double time() const = 0;
+  // Runs until simulated time t (events/steps up to t; the clock ends at t or at the
+  // last step not past it).
+  virtual void advance_to(double t) = 0;
+  // Runs `n` units of the engine's own work count (ED: events, DEM: steps).
+  virtual void advance_steps(std::uint64_t n) = 0;
+  virtual std::uint64_t steps_done() const = 0;
+
+  // Particles (synchronised to time()), domain and obstacles, coloured by `colour_by`
+  // (render.color_by).
+  virtual void snapshot(const std::string& colour_by, render::Snapshot& out) = 0;
+
+  // stats.csv: column names (after `time`) and one row over the window since the last
+  // row; taking a row starts a new window.
+  virtual std::vector<std::string> stats_columns() const = 0;
+  virtual std::vector<double> stats_row() = 0;
+
+  // Throughput: total work so far and its unit ("collisions", "particle-steps").
+  virtual double work() const = 0;
+  virtual std::string work_unit() const = 0;
+  // Totals for run.json.
+  virtual std::vector<std::pair<std::string, double>> figures() const = 0;
+};
+
+std::unique_ptr<EngineRunner> make_ed_runner(const Scene& scene);
+std::unique_ptr<EngineRunner> make_dem_runner(const Scene& scene);
+
+}  // namespace grainflow::scenes
