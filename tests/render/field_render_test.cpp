@@ -1,0 +1,419 @@
+// Field rendering on both off-screen backends: a 2×2 panel frame of analytic fields
+// (particles | Gaussian density blob | linear temperature ramp | streamlines of potential
+// flow past a cylinder over |v|) with titles, colour bars and a caption, against a golden
+// image; masked/NaN/inf bins in exactly the neutral colour; constant fields; ticks.
+//
+// Comparator thresholds (render/image/compare.hpp): a pixel counts as different when its
+// largest channel differs by more than kMaxChannel = 16 levels; at most kMaxFraction =
+// 0.2 % of the pixels (512 of 640×400) may differ. Looser than gl_render_test.cpp because
+// this frame also holds FreeType text (glyph rasterisation moves by a level or two with
+// the FreeType version) and ~4,000 anti-aliased streamline segments whose edge pixels
+// round differently across Mesa/LLVM versions. Goldens: Mesa 22.3 llvmpipe, FreeType
+// 2.12, DejaVu Sans 2.37. A changed field value changes thousands of pixels by far more
+// (ChangedFieldFailsComparison proves the comparator notices it).
+//
+// GRAINFLOW_UPDATE_GOLDEN=1 rewrites the golden images (commit them with the reason).
+// On failure the actual image and a diff heat map are written to GRAINFLOW_TEST_OUT.
+#include <gtest/gtest.h>
+
+#include <Eigen/LU>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <limits>
+#include <string>
+
+#include "engine/core/error.hpp"
+#include "engine/core/rng.hpp"
+#include "render/context/gl_context.hpp"
+#include "render/frame_renderer.hpp"
+#include "render/image/compare.hpp"
+#include "render/layers/colour_bar.hpp"
+#include "render/layers/text_renderer.hpp"
+#include "render/output/png_io.hpp"
+#include "render/panel_renderer.hpp"
+
+namespace fs = std::filesystem;
+using namespace grainflow;
+using namespace grainflow::render;
+using grainflow::Vec2;
+
+namespace {
+
+constexpr int kMaxChannel = 16;
+constexpr double kMaxFraction = 0.002;
+
+constexpr double kCx = 3.0, kCy = 2.5, kA = 0.6;  // cylinder in the 8 × 5 domain
+
+core::GridGeometry grid(int nx = 48, int ny = 30) {
+  core::GridGeometry g;
+  g.nx = nx;
+  g.ny = ny;
+  g.lo = Vec2(0, 0);
+  g.hi = Vec2(8, 5);
+  return g;
+}
+
+Vec2 cylinder_velocity(const Vec2& q) {
+  const Vec2 p = q - Vec2(kCx, kCy);
+  const double r2 = p.squaredNorm(), r4 = r2 * r2;
+  return {1.0 - kA * kA * (p.x() * p.x() - p.y() * p.y()) / r4, -2.0 * kA * kA * p.x() * p.y() / r4};
+}
+
+// The analytic scene: potential flow past a cylinder, bins inside it masked (NaN data).
+Snapshot field_scene() {
+  Snapshot s;
+  s.dim = 2;
+  s.lo = {0, 0, 0};
+  s.hi = {8, 5, 0};
+  s.obstacles.push_back({{kCx, kCy}, kA});
+  const auto g = grid();
+  core::ScalarField density(g), temperature(g);
+  core::VectorField velocity(g);
+  for (int iy = 0; iy < g.ny; ++iy)
+    for (int ix = 0; ix < g.nx; ++ix) {
+      const Vec2 c = g.centre(ix, iy);
+      const bool solid = (c - Vec2(kCx, kCy)).norm() < kA;
+      const auto k = g.index(ix, iy);
+      density.values[k] = 0.2 + 0.6 * std::exp(-(c - Vec2(5.5, 2.0)).squaredNorm() / 0.8);
+      temperature.values[k] = 0.01 + 0.004 * c.x();
+      velocity.values[k] = cylinder_velocity(c);
+      if (solid) {
+        density.mask[k] = temperature.mask[k] = velocity.mask[k] = 0;
+        density.values[k] = temperature.values[k] = std::nan("");
+        velocity.values[k] = Vec2(std::nan(""), std::nan(""));
+      }
+    }
+  s.fields.push_back({"density", "n", density});
+  s.fields.push_back({"temperature", "kT", temperature});
+  s.velocity = velocity;
+  s.reference_velocity = Eigen::Vector2d(1.0, 0.0);
+  // Disks on a jittered lattice, coloured by the analytic speed; ≥ 5,000 so that the
+  // software path splats them on the CPU (exercises the panel viewport offset).
+  core::Rng rng(3);
+  for (int j = 0; j < 62; ++j)
+    for (int i = 0; i < 100; ++i) {
+      const double x = 0.04 + i * 0.08 + 0.01 * rng.uniform(-1, 1), y = 0.04 + j * 0.08 + 0.01 * rng.uniform(-1, 1);
+      if (std::hypot(x - kCx, y - kCy) < kA + 0.04) continue;
+      s.pos_radius.insert(s.pos_radius.end(), {float(x), float(y), 0.f, 0.035f});
+      s.attribute.push_back(float(cylinder_velocity({x, y}).norm()));
+    }
+  s.attribute_name = "speed";
+  s.labels = {{"t", "12.5"}, {"U", "1"}, {"Re", "40"}, {"τ_E", "480"}, {"N", std::to_string(s.size())}};
+  return s;
+}
+
+FrameLayout layout_2x2() {
+  const std::vector<std::string> names = {"particles", "density", "temperature", "streamlines"};
+  FrameLayout l = make_layout(2, 2, names);
+  l.panels[3].streamlines.trace.separation = 0.22;
+  return l;
+}
+
+std::unique_ptr<GlContext> context_or_skip(Backend b) {
+  try {
+    return create_context(b);
+  } catch (const Error&) {
+    return nullptr;
+  }
+}
+
+void check_golden(const Image& actual, const std::string& name) {
+  const fs::path golden = fs::path(GRAINFLOW_GOLDEN_DIR) / (name + ".png");
+  if (std::getenv("GRAINFLOW_UPDATE_GOLDEN")) {
+    write_png(golden, actual, {6, true});
+    GTEST_SKIP() << "golden image rewritten: " << golden;
+  }
+  ASSERT_TRUE(fs::exists(golden)) << "missing golden image " << golden << " (GRAINFLOW_UPDATE_GOLDEN=1 makes it)";
+  const Image expected = read_png(golden);
+  const auto r = compare_images(actual, expected, {kMaxChannel, kMaxFraction});
+  if (!r.passed) {
+    fs::create_directories(GRAINFLOW_TEST_OUT);
+    write_png(fs::path(GRAINFLOW_TEST_OUT) / (name + ".actual.png"), actual);
+    write_png(fs::path(GRAINFLOW_TEST_OUT) / (name + ".diff.png"), diff_heatmap(actual, expected));
+  }
+  EXPECT_TRUE(r.passed) << name << ": max channel diff " << r.max_channel_diff << ", mean " << r.mean_abs_diff
+                        << ", fraction over " << r.fraction_over << " (actual and diff written to "
+                        << GRAINFLOW_TEST_OUT << ")";
+}
+
+class FieldRender : public ::testing::TestWithParam<Backend> {
+protected:
+  void SetUp() override {
+    ctx_ = context_or_skip(GetParam());
+    if (!ctx_) GTEST_SKIP() << "no " << backend_name(GetParam()) << " context on this machine";
+  }
+  std::unique_ptr<GlContext> ctx_;
+};
+
+TEST_P(FieldRender, PanelFrameMatchesGolden) {
+  FrameRenderer r(*ctx_, 640, 400);
+  FrameStyle style;
+  style.range = std::pair{0.0, 1.6};
+  check_golden(r.render(field_scene(), style, layout_2x2()), "fields_2x2");
+}
+
+TEST_P(FieldRender, QuiverAndSpeedPanelsMatchGolden) {
+  FrameRenderer r(*ctx_, 480, 200);
+  const std::vector<std::string> names = {"speed", "velocity"};
+  FrameLayout l = make_layout(2, 1, names);
+  l.panels[0].filter = FieldFilter::bilinear;
+  l.panels[0].colormap = Colormap(ColormapId::magma);
+  Snapshot s = field_scene();
+  s.pos_radius.clear();
+  s.attribute.clear();
+  s.caption = "quiver and bilinear |v|";
+  check_golden(r.render(s, FrameStyle{}, l), "fields_quiver");
+}
+
+TEST_P(FieldRender, ChangedFieldFailsComparison) {
+  FrameRenderer r(*ctx_, 640, 400);
+  Snapshot s = field_scene();
+  const FrameLayout l = layout_2x2();
+  const Image before = r.render(s, {}, l);
+  // A 6 × 6-bin cold spot in the temperature ramp (still inside its percentile range).
+  auto& t = s.fields[1].field;
+  for (int iy = 18; iy < 24; ++iy)
+    for (int ix = 34; ix < 40; ++ix) t.at(ix, iy) = 0.012;
+  const Image after = r.render(s, {}, l);
+  const auto res = compare_images(before, after, {kMaxChannel, kMaxFraction});
+  EXPECT_FALSE(res.passed);
+  EXPECT_GT(res.max_channel_diff, 60);
+  // And the same frame twice is pixel-identical (deterministic, text included).
+  const Image again = r.render(s, {}, l);
+  EXPECT_EQ(after.rgba, again.rgba);
+}
+
+// One field filling a 1×1 layout without caption or bar: the plot is a known rectangle.
+struct SinglePanel {
+  FrameLayout layout;
+  Snapshot s;
+  SinglePanel(const core::ScalarField& f, FieldFilter filter) {
+    PanelSpec p = panel_from_name("density");
+    p.filter = filter;
+    p.colour_bar = false;
+    p.range = FieldRange::fixed(0.0, 1.0);
+    layout.panels = {p};
+    layout.caption = false;
+    s.dim = 2;
+    s.lo = {f.grid.lo.x(), f.grid.lo.y(), 0};
+    s.hi = {f.grid.hi.x(), f.grid.hi.y(), 0};
+    s.fields.push_back({"density", "", f});
+  }
+  // Frame pixel at world point p.
+  std::pair<int, int> pixel(const Vec2& p, int width, int height) const {
+    const auto g = layout_frame(layout, width, height, false).panels[0];
+    const ViewTransform v = fit_2d(s.lo.head<2>(), s.hi.head<2>(), g.plot.w, g.plot.h);
+    const Eigen::Vector4f c = v.view_proj() * Eigen::Vector4f(float(p.x()), float(p.y()), 0.f, 1.f);
+    return {int(g.plot.x + (c.x() + 1) * 0.5 * g.plot.w), int(g.plot.y + (1 - c.y()) * 0.5 * g.plot.h)};
+  }
+  // World point at the centre of frame pixel (px, py).
+  Vec2 world(int px, int py, int width, int height) const {
+    const auto g = layout_frame(layout, width, height, false).panels[0];
+    const ViewTransform v = fit_2d(s.lo.head<2>(), s.hi.head<2>(), g.plot.w, g.plot.h);
+    const Eigen::Vector4f ndc(float((px + 0.5 - g.plot.x) / g.plot.w * 2 - 1),
+                              float(1 - (py + 0.5 - g.plot.y) / g.plot.h * 2), 0.f, 1.f);
+    const Eigen::Vector4f w = v.view_proj().inverse() * ndc;
+    return {w.x(), w.y()};
+  }
+};
+
+// Reference for the shader's bilinear mode: weights of the four surrounding bin centres
+// (clamped at the edges), renormalised over the valid, finite bins only.
+double bilinear_valid(const core::ScalarField& f, const Vec2& p) {
+  const auto& g = f.grid;
+  const double qx = (p.x() - g.lo.x()) / g.dx() - 0.5, qy = (p.y() - g.lo.y()) / g.dy() - 0.5;
+  const int i0 = int(std::floor(qx)), j0 = int(std::floor(qy));
+  const double fx = qx - i0, fy = qy - j0;
+  double sw = 0, sv = 0;
+  for (int dy = 0; dy <= 1; ++dy)
+    for (int dx = 0; dx <= 1; ++dx) {
+      const int i = std::clamp(i0 + dx, 0, g.nx - 1), j = std::clamp(j0 + dy, 0, g.ny - 1);
+      const double v = f.at(i, j);
+      if (!f.valid(i, j) || !std::isfinite(v)) continue;
+      const double w = (dx ? fx : 1 - fx) * (dy ? fy : 1 - fy);
+      sw += w;
+      sv += w * std::clamp(v, -1.0, 2.0);
+    }
+  return sv / sw;
+}
+
+TEST_P(FieldRender, MaskedAndNonFiniteBinsAreExactlyNeutral) {
+  core::ScalarField f(grid(16, 10));
+  for (int iy = 0; iy < 10; ++iy)
+    for (int ix = 0; ix < 16; ++ix) f.at(ix, iy) = (ix + iy) % 2 ? 0.9 : 0.1;  // checkerboard: worst case to smear
+  f.mask[f.grid.index(4, 4)] = 0;
+  f.at(4, 4) = 1e30;  // masked: its value must be ignored
+  f.at(8, 4) = std::nan("");
+  f.at(11, 6) = std::numeric_limits<double>::infinity();
+  f.at(12, 6) = -std::numeric_limits<double>::infinity();
+  f.at(2, 7) = 1e300;  // finite but huge: clamped, valid
+  const Rgba8 nan = to_rgba8(Colormap::kNanColour);
+  const Colormap map(ColormapId::viridis);
+  for (FieldFilter filter : {FieldFilter::nearest, FieldFilter::bilinear}) {
+    SinglePanel sp(f, filter);
+    FrameRenderer r(*ctx_, 400, 300);
+    const Image& img = r.render(sp.s, {}, sp.layout);
+    const double dx = f.grid.dx(), dy = f.grid.dy();
+    for (auto [ix, iy] : {std::pair{4, 4}, {8, 4}, {11, 6}, {12, 6}})
+      // Every pixel inside the bad bin (inset by 1.5 px from its edges).
+      for (double fx = 0.1; fx <= 0.9; fx += 0.1)
+        for (double fy = 0.1; fy <= 0.9; fy += 0.1) {
+          const auto [px, py] = sp.pixel({(ix + fx) * dx, (iy + fy) * dy}, 400, 300);
+          const auto* c = img.pixel(px, py);
+          ASSERT_EQ(c[0], nan.r) << "bin " << ix << "," << iy << " filter " << int(filter);
+          ASSERT_EQ(c[1], nan.g);
+          ASSERT_EQ(c[2], nan.b);
+        }
+    // Valid neighbours keep their own colour at their centre: no grey, no masked value.
+    for (auto [ix, iy] : {std::pair{3, 4}, {5, 4}, {4, 3}, {4, 5}, {7, 4}, {9, 4}, {10, 6}, {13, 6}, {2, 7}}) {
+      const auto [px, py] = sp.pixel(f.grid.centre(ix, iy), 400, 300);
+      const double t = filter == FieldFilter::nearest ? f.at(ix, iy) : bilinear_valid(f, sp.world(px, py, 400, 300));
+      const Rgba8 want = map.rgba8(std::clamp(t, 0.0, 1.0));
+      const auto* c = img.pixel(px, py);
+      EXPECT_NEAR(c[0], want.r, 3) << "bin " << ix << "," << iy << " filter " << int(filter);
+      EXPECT_NEAR(c[1], want.g, 3);
+      EXPECT_NEAR(c[2], want.b, 3);
+    }
+  }
+}
+
+TEST_P(FieldRender, ConstantAndEmptyFieldsRenderWithSensibleRange) {
+  core::ScalarField f(grid(12, 8), 3.0);
+  const auto range = resolve_range(f, FieldRange{});
+  EXPECT_DOUBLE_EQ(range.first, 2.85);
+  EXPECT_DOUBLE_EQ(range.second, 3.15);
+  const auto ticks = nice_ticks(range.first, range.second, 5);
+  ASSERT_GE(ticks.size(), 3u);
+  EXPECT_NE(std::find(ticks.begin(), ticks.end(), 3.0), ticks.end());
+  // Rendered with the automatic range: the map's middle colour everywhere.
+  SinglePanel sp(f, FieldFilter::bilinear);
+  sp.layout.panels[0].range = FieldRange::percentile(2, 98);
+  sp.layout.panels[0].colour_bar = true;
+  FrameRenderer r(*ctx_, 400, 300);
+  const Image& img = r.render(sp.s, {}, sp.layout);
+  const auto [px, py] = sp.pixel({4.0, 2.5}, 400, 300);
+  const Rgba8 mid = Colormap(ColormapId::viridis).rgba8(0.5);
+  EXPECT_NEAR(img.pixel(px, py)[0], mid.r, 3);
+  EXPECT_NEAR(img.pixel(px, py)[1], mid.g, 3);
+  EXPECT_NEAR(img.pixel(px, py)[2], mid.b, 3);
+  // All bins masked, and zero everywhere: no crash, neutral / mid colour.
+  core::ScalarField none(grid(12, 8), 0.0);
+  std::fill(none.mask.begin(), none.mask.end(), 0);
+  EXPECT_EQ(resolve_range(none, FieldRange{}), (std::pair{0.0, 1.0}));
+  EXPECT_EQ(resolve_range(core::ScalarField(grid(12, 8), 0.0), FieldRange{}), (std::pair{-0.5, 0.5}));
+  SinglePanel empty(none, FieldFilter::bilinear);
+  const Image& img2 = r.render(empty.s, {}, empty.layout);
+  EXPECT_EQ(img2.pixel(px, py)[0], to_rgba8(Colormap::kNanColour).r);
+}
+
+TEST_P(FieldRender, TitlesAndCaptionPutInkWhereExpected) {
+  FrameRenderer r(*ctx_, 640, 400);
+  const Snapshot s = field_scene();
+  const FrameLayout l = layout_2x2();
+  const Image& img = r.render(s, {}, l);
+  const FrameGeometry g = layout_frame(l, 640, 400, true);
+  auto dark_pixels = [&](const PixelRect& rect) {
+    int n = 0;
+    for (int y = rect.y; y < rect.bottom(); ++y)
+      for (int x = rect.x; x < rect.right(); ++x) n += img.pixel(x, y)[0] < 100 ? 1 : 0;
+    return n;
+  };
+  for (const auto& p : g.panels) EXPECT_GT(dark_pixels(p.title), 20);  // a title in every strip
+  EXPECT_GT(dark_pixels(g.caption), 100);
+}
+
+TEST_P(FieldRender, ThreeDimensionalSnapshotShowsXyFields) {
+  Snapshot s = field_scene();
+  s.dim = 3;
+  s.hi.z() = 1;
+  for (std::size_t i = 0; i < s.size(); ++i) s.pos_radius[4 * i + 2] = 0.5f;
+  FrameRenderer r(*ctx_, 320, 200, 4);
+  EXPECT_NO_THROW(r.render(s, {}, layout_2x2()));
+}
+
+INSTANTIATE_TEST_SUITE_P(Backends, FieldRender, ::testing::Values(Backend::Egl, Backend::OSMesa),
+                         [](const auto& info) { return std::string(backend_name(info.param)); });
+
+TEST(ColourBarTicks, NiceSteps) {
+  EXPECT_EQ(nice_ticks(0.0, 1.0, 5), (std::vector<double>{0.0, 0.2, 0.4, 0.6000000000000001, 0.8, 1.0}));
+  const auto t = nice_ticks(-0.013, 0.042, 5);
+  ASSERT_FALSE(t.empty());
+  EXPECT_DOUBLE_EQ(tick_step(t), 0.01);
+  EXPECT_EQ(t.front(), -0.01);
+  EXPECT_DOUBLE_EQ(t.back(), 0.04);
+  EXPECT_EQ(nice_ticks(1.0, 1.0, 5).size(), 0u);
+  EXPECT_EQ(nice_ticks(0.0, std::nan(""), 5).size(), 0u);
+  EXPECT_DOUBLE_EQ(tick_step(nice_ticks(0, 7, 4)), 2.0);
+  EXPECT_DOUBLE_EQ(tick_step(nice_ticks(0, 430, 5)), 100.0);
+  EXPECT_EQ(format_tick(0.25, 0.05), "0.25");
+  EXPECT_EQ(format_tick(120, 20), "120");
+  EXPECT_EQ(format_tick(-0.0, 0.1), "0.0");
+  EXPECT_EQ(format_tick(1.5e6, 5e5), "1.5e+06");
+  EXPECT_EQ(format_tick(0.012, 0.002), "0.012");
+}
+
+TEST(FieldRange, PercentileIgnoresOneHotBin) {
+  core::ScalarField f(grid(10, 10));
+  for (std::size_t i = 0; i < f.values.size(); ++i) f.values[i] = double(i % 10);  // 0..9
+  f.values[55] = 1e6;  // one hot bin
+  f.values[56] = std::nan("");
+  f.mask[57] = 0;
+  f.values[57] = -1e9;  // masked: ignored
+  const auto automatic = resolve_range(f, FieldRange{});
+  EXPECT_EQ(automatic.second, 1e6);
+  const auto p = resolve_range(f, FieldRange::percentile(2, 98));
+  EXPECT_DOUBLE_EQ(p.first, 0.0);
+  EXPECT_DOUBLE_EQ(p.second, 9.0);
+  EXPECT_THROW(resolve_range(f, FieldRange::fixed(1, 1)), Error);
+  EXPECT_THROW(resolve_range(f, FieldRange::percentile(50, 20)), Error);
+}
+
+TEST(PanelLayout, NamesAndGeometry) {
+  EXPECT_EQ(panel_names().size(), 6u);
+  for (auto n : panel_names()) EXPECT_NO_THROW(panel_from_name(n));
+  try {
+    panel_from_name("vorticity");
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("vorticity"), std::string::npos);
+    EXPECT_NE(std::string(e.what()).find("particles, density, temperature, speed, streamlines, velocity"),
+              std::string::npos);
+  }
+  const std::vector<std::string> five(5, "density");
+  EXPECT_THROW(make_layout(2, 2, five), Error);
+  EXPECT_THROW(make_layout(0, 2, {}), Error);
+  // 3 × 2 cells tile 1001 × 601 exactly (odd sizes included), caption at the bottom.
+  FrameLayout l = make_layout(3, 2, {});
+  const FrameGeometry g = layout_frame(l, 1001, 601, true);
+  ASSERT_EQ(g.panels.size(), 6u);
+  long area = 0;
+  for (const auto& p : g.panels) area += long(p.panel.w) * p.panel.h;
+  EXPECT_EQ(area + long(g.caption.w) * g.caption.h, 1001L * 601L);
+  EXPECT_EQ(g.caption.bottom(), 601);
+  EXPECT_EQ(g.panels[5].panel.right(), 1001);
+}
+
+TEST(Caption, FromLabels) {
+  Snapshot s;
+  s.labels = {{"t", "1"}, {"U", "0.1"}};
+  EXPECT_EQ(caption_text(s), "t = 1     U = 0.1");
+  s.caption = "custom";
+  EXPECT_EQ(caption_text(s), "custom");
+}
+
+TEST(Font, MissingFontIsAClearError) {
+  ::setenv("GRAINFLOW_FONT", "/nonexistent/font.ttf", 1);
+  try {
+    find_default_font();
+    ::unsetenv("GRAINFLOW_FONT");
+    FAIL();
+  } catch (const Error& e) {
+    ::unsetenv("GRAINFLOW_FONT");
+    EXPECT_NE(std::string(e.what()).find("/nonexistent/font.ttf"), std::string::npos);
+  }
+  EXPECT_NE(find_default_font().find("DejaVuSans.ttf"), std::string::npos);
+}
+
+}  // namespace

@@ -1,0 +1,173 @@
+// End-to-end tests of the `grainflow` executable: `render` and `run` produce their
+// outputs, and bad input gives a clear message and exit status 2 without leaving a
+// finished-looking file behind.
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "render/image/image.hpp"
+#include "render/output/png_io.hpp"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct Result {
+  int status = -1;
+  std::string output;  // stdout + stderr
+};
+
+Result run(const std::string& args) {
+  Result r;
+  const std::string cmd = std::string(GRAINFLOW_EXE) + " " + args + " 2>&1";
+  FILE* p = popen(cmd.c_str(), "r");
+  if (!p) return r;
+  std::array<char, 4096> buf{};
+  while (std::fgets(buf.data(), int(buf.size()), p)) r.output += buf.data();
+  const int raw = pclose(p);
+  r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
+  return r;
+}
+
+fs::path fresh_dir(const std::string& name) {
+  const fs::path d = fs::path(GRAINFLOW_TEST_OUT) / "cli" / name;
+  fs::remove_all(d);
+  fs::create_directories(d.parent_path());
+  return d;
+}
+
+const std::string data = GRAINFLOW_TEST_DATA;
+const std::string scenes = GRAINFLOW_SCENES_DIR;
+
+bool contains(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
+
+TEST(CliRender, LammpsDumpToPngAndMp4) {
+  const fs::path out = fresh_dir("render_lammps");
+  const Result r = run("render " + data + "/particles/lammps_two_frames.lammpstrj -o " + out.string() +
+                       " --size 160 120");
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_TRUE(fs::exists(out / "frames/frame_000000.png"));
+  EXPECT_TRUE(fs::exists(out / "frames/frame_000001.png"));
+  EXPECT_FALSE(fs::exists(out / "frames/frame_000002.png"));
+  EXPECT_GT(fs::file_size(out / "lammps_two_frames.mp4"), 0u);
+  const auto img = grainflow::render::read_png(out / "frames/frame_000000.png");
+  EXPECT_EQ(img.width, 160);
+  EXPECT_EQ(img.height, 120);
+}
+
+TEST(CliRender, XyzWithOddSizeAndColourColumn) {
+  const fs::path out = fresh_dir("render_xyz");
+  const Result r = run("render " + data + "/particles/extended_two_frames.xyz -o " + out.string() +
+                       " --size 161 97 --color-by radius --colormap magma --no-mp4");
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_TRUE(fs::exists(out / "frames/frame_000001.png"));
+  EXPECT_FALSE(fs::exists(out / "extended_two_frames.mp4"));
+}
+
+TEST(CliRender, MissingFileIsAnError) {
+  const fs::path out = fresh_dir("render_missing");
+  const Result r = run("render " + data + "/particles/no_such_file.xyz -o " + out.string());
+  EXPECT_EQ(r.status, 2);
+  EXPECT_TRUE(contains(r.output, "no_such_file.xyz")) << r.output;
+  EXPECT_FALSE(fs::exists(out));
+}
+
+TEST(CliRender, MalformedFileNamesTheLineAndLeavesNoVideo) {
+  const fs::path out = fresh_dir("render_malformed");
+  const Result r = run("render " + data + "/particles/malformed/truncated_last_frame.lammpstrj -o " + out.string());
+  EXPECT_EQ(r.status, 2);
+  EXPECT_TRUE(contains(r.output, "truncated_last_frame.lammpstrj:")) << r.output;
+  // The frames drawn before the bad one are complete PNGs, but no MP4 claims to be done.
+  EXPECT_FALSE(fs::exists(out / "truncated_last_frame.mp4"));
+  for (const auto& f : fs::recursive_directory_iterator(out)) {
+    EXPECT_NE(f.path().extension(), ".mp4") << f.path();
+  }
+}
+
+TEST(CliRender, UnknownBackendIsAnError) {
+  const fs::path out = fresh_dir("render_backend");
+  const Result r = run("render " + data + "/particles/plain_two_frames.xyz -o " + out.string() + " --backend vulkan");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_TRUE(contains(r.output, "vulkan")) << r.output;
+  EXPECT_TRUE(contains(r.output, "auto, egl, osmesa")) << r.output;
+}
+
+TEST(CliRender, ZeroOrAbsurdSizeIsAnError) {
+  for (const char* size : {"0 100", "100000 100", "-5 10"}) {
+    const fs::path out = fresh_dir("render_size");
+    const Result r = run("render " + data + "/particles/plain_two_frames.xyz -o " + out.string() + " --size " + size);
+    EXPECT_EQ(r.status, 2) << size;
+    EXPECT_TRUE(contains(r.output, "--size")) << r.output;
+    EXPECT_FALSE(fs::exists(out / "frames/frame_000000.png"));
+  }
+}
+
+TEST(CliRender, UnwritableOutputIsAnError) {
+  // Root may write anywhere, so use a path below a regular file.
+  const Result r = run("render " + data + "/particles/plain_two_frames.xyz -o /etc/hostname/out");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_TRUE(contains(r.output, "/etc/hostname/out")) << r.output;
+}
+
+TEST(CliRender, UnknownColourColumnListsTheColumns) {
+  const fs::path out = fresh_dir("render_column");
+  const Result r = run("render " + data + "/particles/lammps_two_frames.lammpstrj -o " + out.string() +
+                       " --color-by temperature");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_TRUE(contains(r.output, "temperature")) << r.output;
+  EXPECT_TRUE(contains(r.output, "speed")) << r.output;
+}
+
+TEST(CliRun, DisksBoxWritesTheRunFolder) {
+  const fs::path out = fresh_dir("run_box");
+  const Result r = run("run " + scenes + "/disks_box.toml -o " + out.string() +
+                       " --set system.box=[20.0,20.0] --set run.until=4.0 --set render.size=[128,128]");
+  ASSERT_EQ(r.status, 0) << r.output;
+  for (const char* f : {"scene.toml", "stats.csv", "run.json", "disks_box.mp4", "frames/frame_000002.png"})
+    EXPECT_TRUE(fs::exists(out / f)) << f;
+  EXPECT_FALSE(fs::exists(out / "stats.csv.partial"));
+  std::ifstream csv(out / "stats.csv");
+  std::string header;
+  std::getline(csv, header);
+  EXPECT_EQ(header.rfind("time,collisions,", 0), 0u) << header;
+  std::ifstream json(out / "run.json");
+  const std::string text((std::istreambuf_iterator<char>(json)), std::istreambuf_iterator<char>());
+  EXPECT_TRUE(contains(text, "\"status\": \"complete\"")) << text;
+  // The effective scene records the overrides and runs again as it is.
+  const fs::path again = fresh_dir("run_box_again");
+  const Result r2 = run("run " + (out / "scene.toml").string() + " -o " + again.string());
+  EXPECT_EQ(r2.status, 0) << r2.output;
+  // Same scene + seed ⇒ same numbers.
+  std::ifstream a(out / "stats.csv"), b(again / "stats.csv");
+  const std::string sa((std::istreambuf_iterator<char>(a)), std::istreambuf_iterator<char>());
+  const std::string sb((std::istreambuf_iterator<char>(b)), std::istreambuf_iterator<char>());
+  EXPECT_EQ(sa, sb);
+}
+
+TEST(CliRun, RefusesToOverwriteAPreviousRun) {
+  const fs::path out = fresh_dir("run_twice");
+  const std::string args = "run " + scenes + "/disks_box.toml -o " + out.string() +
+                           " --set system.box=[20.0,20.0] --set run.until=2.0 --set render.size=[64,64]";
+  ASSERT_EQ(run(args).status, 0);
+  const Result r = run(args);
+  EXPECT_EQ(r.status, 2);
+  EXPECT_TRUE(contains(r.output, "--force")) << r.output;
+  EXPECT_EQ(run(args + " --force").status, 0);
+}
+
+TEST(CliRun, BadSceneStopsBeforeTheRunWithKeyAndValue) {
+  const fs::path out = fresh_dir("run_bad");
+  const Result r = run("run " + scenes + "/disks_box.toml -o " + out.string() +
+                       " --set system.area_fraction=0.95 --set render.colour=1");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_TRUE(contains(r.output, "system.area_fraction")) << r.output;
+  EXPECT_TRUE(contains(r.output, "0.95")) << r.output;
+  EXPECT_TRUE(contains(r.output, "render.colour")) << r.output;
+  EXPECT_FALSE(fs::exists(out));
+}
+
+}  // namespace
