@@ -21,6 +21,7 @@
 #include "render/output/mp4_sink.hpp"
 #include "render/output/png_sequence_sink.hpp"
 #include "scenes/src/commands.hpp"
+#include "scenes/src/field_snapshot.hpp"
 #include "scenes/src/particle_snapshot.hpp"
 
 namespace grainflow::scenes {
@@ -58,13 +59,7 @@ void add_binned_fields(const core::ParticleFrame& frame, const Eigen::Vector3d& 
   opt.grid.ny = bins[1];
   opt.grid.lo = Vec2(lo.x(), lo.y());
   opt.grid.hi = Vec2(hi.x(), hi.y());
-  core::BinnedFields f = core::bin_frame(frame, opt);
-  s.fields.clear();
-  s.fields.push_back({"density", "n", std::move(f.density)});
-  if (f.temperature) s.fields.push_back({"temperature", "kT", std::move(*f.temperature)});
-  if (f.mean_speed) s.fields.push_back({"speed", "<|v|>", std::move(*f.mean_speed)});
-  if (f.mean_velocity) s.velocity = std::move(*f.mean_velocity);
-  else s.velocity.reset();
+  set_binned_fields(core::bin_frame(frame, opt), s);
   s.labels.clear();
   char buf[64];
   if (std::isfinite(frame.time)) {

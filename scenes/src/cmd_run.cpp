@@ -17,6 +17,7 @@
 #include "render/context/gl_context.hpp"
 #include "render/frame_renderer.hpp"
 #include "render/output/async_sink.hpp"
+#include "render/panel_layout.hpp"
 #include "render/output/mp4_sink.hpp"
 #include "render/output/png_sequence_sink.hpp"
 #include "scenes/src/commands.hpp"
@@ -46,6 +47,19 @@ render::Rgb parse_colour(const std::string& hex) {
   return {byte(0), byte(1), byte(2)};
 }
 
+// The caption line under the panels: title, time, N, exposure, stream velocity.
+std::string caption(const Scene& scene, const render::Snapshot& s) {
+  char buf[256];
+  std::snprintf(buf, sizeof buf, "t = %.4g   N = %zu   τ_E = %g", s.time, s.size(), scene.get<double>("sample.exposure"));
+  std::string text = buf;
+  if (s.reference_velocity) {
+    std::snprintf(buf, sizeof buf, "   U = %g", s.reference_velocity->norm());
+    text += buf;
+  }
+  const std::string title = scene.get<std::string>("run.title");
+  return title.empty() ? text : title + "   " + text;
+}
+
 // Particle file frame from a snapshot, so OVITO/ParaView get positions and radii.
 void to_particle_frame(const render::Snapshot& s, core::ParticleFrame& f) {
   f.clear();
@@ -71,9 +85,9 @@ int run_scene(const RunArgs& a) {
     throw Error("output.fields = true: field files are not written yet; allowed: false");
   if (scene.get<double>("output.checkpoint_every") > 0)
     throw Error("output.checkpoint_every > 0: checkpoints are not written by `grainflow run` yet; allowed: 0");
-  const auto layout = scene.get<std::array<int, 2>>("render.layout");
-  if (layout[0] * layout[1] != 1)
-    throw Error("render.layout: multi-panel frames are not available in `grainflow run` yet; allowed: [1, 1]");
+  const auto grid = scene.get<std::array<int, 2>>("render.layout");
+  const render::FrameLayout layout =
+      render::make_layout(grid[0], grid[1], scene.get<std::vector<std::string>>("render.panels"));
 
   const EngineEntry* engine = nullptr;
   for (const auto& e : engines())
@@ -141,7 +155,8 @@ int run_scene(const RunArgs& a) {
     runner->snapshot(colour_by, snapshot);
     // One colour range for the whole video, fixed at the first frame, so frames compare.
     if (frame_index == 0 && !snapshot.attribute.empty()) style.range = render::finite_range(snapshot.attribute);
-    output.consume(renderer.render(snapshot, style), frame_index++, snapshot.time);
+    snapshot.caption = caption(scene, snapshot);
+    output.consume(renderer.render(snapshot, style, layout), frame_index++, snapshot.time);
     if (particles) {
       to_particle_frame(snapshot, pframe);
       particles->write(pframe);

@@ -5,8 +5,10 @@
 #include <string>
 
 #include "engine/core/error.hpp"
+#include "engine/dem/field_sampler.hpp"
 #include "engine/dem/simulation.hpp"
 #include "scenes/src/engine_runner.hpp"
+#include "scenes/src/field_snapshot.hpp"
 #include "scenes/src/scene.hpp"
 
 namespace grainflow::scenes {
@@ -93,15 +95,45 @@ dem::Config dem_config(const Scene& sc) {
   return c;
 }
 
+// Fields are averaged over each exposure from kSamplesPerExposure snapshots of the state,
+// on the plane sample.plane (averaged across the box normal to it).
+constexpr int kSamplesPerExposure = 20;
+
+core::BinningOptions binning_options(const Scene& sc, const dem::Config& cfg) {
+  core::BinningOptions opt;
+  const std::string plane = sc.get<std::string>("sample.plane");
+  opt.plane = plane == "xy" ? core::BinPlane::xy : plane == "yz" ? core::BinPlane::yz : core::BinPlane::xz;
+  const int u = plane == "yz" ? 1 : 0, v = plane == "xy" ? 1 : 2;
+  const auto bins = sc.get<std::array<int, 2>>("sample.bins");
+  opt.grid.nx = bins[0];
+  opt.grid.ny = bins[1];
+  opt.grid.lo = Vec2(cfg.box.lo[u], cfg.box.lo[v]);
+  opt.grid.hi = Vec2(cfg.box.hi[u], cfg.box.hi[v]);
+  return opt;
+}
+
 class DemRunner final : public EngineRunner {
 public:
-  explicit DemRunner(const Scene& sc) : sim_(dem_config(sc)) {}
+  explicit DemRunner(const Scene& sc)
+      : sim_(dem_config(sc)),
+        fields_(binning_options(sc, sim_.config())),
+        sample_every_(sc.get<double>("sample.exposure") / kSamplesPerExposure),
+        next_sample_(sim_.time() + sample_every_) {}
 
   double time() const override { return sim_.time(); }
   void advance_to(double t) override {
-    // Whole steps only: stop at the last step not past t (at least one step).
-    const double steps = std::floor((t - sim_.time()) / sim_.dt() + 1e-9);
-    sim_.step(std::uint64_t(std::max(1.0, steps)));
+    // Whole steps only: stop at the last step not past t (at least one step), sampling
+    // the fields on the way.
+    while (true) {
+      const double until = std::min(t, next_sample_);
+      const double steps = std::floor((until - sim_.time()) / sim_.dt() + 1e-9);
+      sim_.step(std::uint64_t(std::max(1.0, steps)));
+      if (sim_.time() >= next_sample_ - 0.5 * sim_.dt()) {
+        dem::sample_fields(sim_, fields_);
+        next_sample_ += sample_every_;
+      }
+      if (sim_.time() >= t - 0.5 * sim_.dt()) break;
+    }
   }
   void advance_steps(std::uint64_t n) override { sim_.step(n); }
   std::uint64_t steps_done() const override { return sim_.steps(); }
@@ -139,6 +171,16 @@ public:
       s.attribute[i] = float(v);
     }
     s.obstacles.clear();
+    if (fields_.frames() > 0) {
+      core::BinnedFields f;
+      f.density = fields_.density();
+      f.fraction = fields_.fraction();
+      f.mean_velocity = fields_.mean_velocity();
+      f.temperature = fields_.temperature();
+      f.mean_speed = fields_.mean_speed();
+      set_binned_fields(std::move(f), s);
+      fields_.reset();
+    }
   }
 
   std::vector<std::string> stats_columns() const override {
@@ -160,6 +202,8 @@ public:
 
 private:
   dem::Simulation sim_;
+  core::BinAccumulator fields_;
+  double sample_every_, next_sample_;
 };
 
 }  // namespace

@@ -6,8 +6,10 @@
 #include <string>
 
 #include "engine/core/error.hpp"
+#include "engine/ed/field_sampler.hpp"
 #include "engine/ed/simulation.hpp"
 #include "scenes/src/engine_runner.hpp"
+#include "scenes/src/field_snapshot.hpp"
 #include "scenes/src/scene.hpp"
 
 namespace grainflow::scenes {
@@ -42,17 +44,43 @@ ed::Config ed_config(const Scene& sc) {
   if (sc.get<double>("system.tau_tc") > 0)
     throw Error("system.tau_tc = " + std::to_string(sc.get<double>("system.tau_tc")) +
                 ": the TC model is not implemented in the ED engine yet; allowed: 0");
-  if (sc.has("boundary.obstacle"))
-    throw Error("[boundary.obstacle]: obstacles are not implemented in the ED engine yet; remove the table");
   if (sc.get<std::string>("boundary.stream.kind") != "periodic")
     throw Error("boundary.stream.kind = \"" + sc.get<std::string>("boundary.stream.kind") +
                 "\": open inlet/outlet boundaries are not implemented in the ED engine yet; allowed: \"periodic\"");
   return c;
 }
 
+// Fields are time-averaged over each exposure τ_E (seed 003 §4.1) by the engine's sampler
+// agent, sampling all disks kSamplesPerExposure times per exposure.
+constexpr int kSamplesPerExposure = 40;
+
 class EdRunner final : public EngineRunner {
 public:
-  explicit EdRunner(const Scene& sc) : sim_(ed_config(sc)) {}
+  explicit EdRunner(const Scene& sc) : sim_(ed_config(sc)) {
+    ed::SamplerConfig sc_cfg;
+    const auto bins = sc.get<std::array<int, 2>>("sample.bins");
+    sc_cfg.grid.nx = bins[0];
+    sc_cfg.grid.ny = bins[1];
+    sc_cfg.grid.lo = Vec2(0, 0);
+    sc_cfg.grid.hi = Vec2(sim_.config().lx, sim_.config().ly);
+    sc_cfg.exposure = sc.get<double>("sample.exposure");
+    sc_cfg.interval = sc_cfg.exposure / kSamplesPerExposure;
+    sampler_ = &sim_.emplace_timer<ed::FieldSampler>(sc_cfg, sim_.time());
+    if (sc.has("boundary.obstacle")) {
+      ed::ObstacleConfig oc;
+      oc.centre = {sc.get<double>("boundary.obstacle.x"), sc.get<double>("boundary.obstacle.y")};
+      oc.radius = sc.get<double>("boundary.obstacle.D") / 2;
+      const std::string kind = sc.get<std::string>("boundary.obstacle.kind");
+      oc.boundary = kind == "slip"             ? ed::ObstacleBoundary::slip
+                    : kind == "noslip_thermal" ? ed::ObstacleBoundary::thermal
+                                               : ed::ObstacleBoundary::flip;
+      oc.restitution = sc.get<double>("boundary.obstacle.r");
+      oc.kT = sim_.config().kT;  // boundary temperature of the thermal wall [TTKB98]
+      // Its own random stream, derived from the run's seed.
+      oc.seed = sim_.config().seed * 0x9e3779b97f4a7c15ULL + 1;
+      obstacle_ = &sim_.add_obstacle(oc);
+    }
+  }
 
   double time() const override { return sim_.time(); }
   void advance_to(double t) override { sim_.run_until(t); }
@@ -92,18 +120,33 @@ public:
       s.attribute[i] = float(v);
     }
     s.obstacles.clear();
+    if (obstacle_) s.obstacles.push_back({obstacle_->config().centre, obstacle_->config().radius});
+    // The exposure that ended most recently; none yet at the first frame.
+    auto exposures = sampler_->take_frames();
+    if (!exposures.empty()) {
+      set_binned_fields(std::move(exposures.back().fields), s);
+      if (obstacle_) mask_solid_bins(s);
+    }
+    if (cfg.stream.x() != 0 || cfg.stream.y() != 0) s.reference_velocity = Eigen::Vector2d(cfg.stream.x(), cfg.stream.y());
   }
 
   std::vector<std::string> stats_columns() const override {
     return {"collisions", "events", "N", "kinetic_energy", "kT", "pressure", "mean_free_time", "momentum_x",
-            "momentum_y"};
+            "momentum_y", "drag_x", "drag_y"};
   }
   std::vector<double> stats_row() override {
     const ed::Observables o = sim_.observables();
     sim_.synchronise();
     const Vec2 p = sim_.momentum();
+    // Drag: momentum the obstacle received per unit time over the window (Fig. 4.19).
+    Vec2 drag = Vec2::Zero();
+    if (obstacle_ && o.duration > 0) {
+      drag = (obstacle_->impulse() - impulse_at_reset_) / o.duration;
+      impulse_at_reset_ = obstacle_->impulse();
+    }
     std::vector<double> row = {double(sim_.stats().collisions), double(sim_.stats().events), double(sim_.size()),
-                               sim_.kinetic_energy(), o.kT, o.pressure, o.mean_free_time, p.x(), p.y()};
+                               sim_.kinetic_energy(), o.kT, o.pressure, o.mean_free_time, p.x(), p.y(),
+                               drag.x(), drag.y()};
     sim_.reset_measurements();
     return row;
   }
@@ -111,14 +154,32 @@ public:
   double work() const override { return double(sim_.stats().collisions); }
   std::string work_unit() const override { return "collisions"; }
   std::vector<std::pair<std::string, double>> figures() const override {
-    return {{"collisions", double(sim_.stats().collisions)},
+    return {{"obstacle_hits", obstacle_ ? double(obstacle_->hits()) : 0.0},
+            {"collisions", double(sim_.stats().collisions)},
             {"events", double(sim_.stats().events)},
             {"disks", double(sim_.size())},
             {"area_fraction", sim_.area_fraction()}};
   }
 
 private:
+  // Bins whose centre lies inside the obstacle hold no gas: masked, not "empty" (seed 003
+  // draws the obstacle over its fields).
+  void mask_solid_bins(render::Snapshot& s) const {
+    const Vec2 c = obstacle_->config().centre;
+    const double r = obstacle_->config().radius;
+    auto mask = [&](auto& field) {
+      for (int iy = 0; iy < field.grid.ny; ++iy)
+        for (int ix = 0; ix < field.grid.nx; ++ix)
+          if ((field.grid.centre(ix, iy) - c).norm() < r) field.mask[field.grid.index(ix, iy)] = 0;
+    };
+    for (auto& f : s.fields) mask(f.field);
+    if (s.velocity) mask(*s.velocity);
+  }
+
   ed::Simulation sim_;
+  ed::FieldSampler* sampler_ = nullptr;     // owned by sim_
+  ed::CircularObstacle* obstacle_ = nullptr;  // owned by sim_, when the scene has one
+  Vec2 impulse_at_reset_ = Vec2::Zero();
 };
 
 }  // namespace

@@ -21,7 +21,7 @@ int main(int argc, char** argv) try {
   std::vector<int> sizes;
   int repeats = 3;
   double per_disk = 20.0;  // timed collisions per disk in each window
-  double cell = 1.2;       // minimum cell edge in σ (seed 003 §2.2: optimum ≈ 1.2 at η = 0.65)
+  double cell = ed::Config{}.min_cell_size;  // minimum cell edge in σ (--cell 1.2: the seed's §2.2 optimum)
   std::vector<ed::CalendarKind> cals = {ed::CalendarKind::cell_heap, ed::CalendarKind::bucket};
   for (int a = 1; a < argc; ++a) {
     const std::string s = argv[a];
