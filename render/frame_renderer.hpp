@@ -43,6 +43,8 @@ public:
   // grainflow::Error when it is missing).
   const Image& render(const Snapshot& snapshot, const FrameStyle& style, const FrameLayout& layout);
   const Image& image() const { return image_; }
+  // The particle layer, to choose its disk method or sphere culling (tests, benchmarks).
+  ParticleLayer& particle_layer() { return particles_; }
   int width() const { return fb_.width(); }
   int height() const { return fb_.height(); }
 

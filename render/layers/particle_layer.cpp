@@ -15,11 +15,11 @@ ParticleLayer::ParticleLayer(const GlApi& gl)
       disk_quads_(gl, "disks.vert", "disks.frag", "#define QUADS\n"),
       sphere_points_(gl, "spheres.vert", "spheres.frag"),
       sphere_quads_(gl, "spheres.vert", "spheres.frag", "#define QUADS\n"),
+      composite_(gl, "fullscreen.vert", "composite.frag"),
       vao_(gl),
       pos_buffer_(gl),
       value_buffer_(gl),
       colormap_texture_(gl),
-      composite_(gl, "fullscreen.vert", "composite.frag"),
       splat_texture_(gl) {
   const auto* renderer = reinterpret_cast<const char*>(gl_.GetString(GL_RENDERER));
   const std::string name = renderer ? renderer : "";
@@ -164,6 +164,23 @@ void ParticleLayer::draw_disks_splat(const ViewTransform& view, int width, int h
 void ParticleLayer::draw_spheres(const ViewTransform& view, int width, int height, std::span<const float> pos_radius,
                                  std::span<const float> values, const ParticleDrawStyle& style) {
   if (pos_radius.size() < 4) return;
+  const std::size_t n = pos_radius.size() / 4;
+  if (sphere_culling == SphereCulling::On || (sphere_culling == SphereCulling::Auto && software_gl_ && n >= 5000)) {
+    // Draw only the spheres that can show a pixel (same picture, far fewer fragments).
+    const auto& keep = culler_.visible(view, width, height, pos_radius);
+    culled_pos_.resize(keep.size() * 4);
+    culled_values_.resize(values.size() == n ? keep.size() : 0);
+    for (std::size_t k = 0; k < keep.size(); ++k) {
+      std::copy_n(&pos_radius[4 * std::size_t(keep[k])], 4, &culled_pos_[4 * k]);
+      if (!culled_values_.empty()) culled_values_[k] = values[keep[k]];
+    }
+    last_spheres_drawn_ = keep.size();
+    pos_radius = culled_pos_;
+    values = culled_values_;
+    if (pos_radius.empty()) return;
+  } else {
+    last_spheres_drawn_ = n;
+  }
   upload(pos_radius, values);
   // Largest sprite: the nearest sphere under perspective is bounded by the fit's scale
   // times a generous factor; go to quads when that could exceed the point-size limit.

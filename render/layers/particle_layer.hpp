@@ -14,6 +14,7 @@
 #include "render/layers/camera.hpp"
 #include "render/layers/colormap.hpp"
 #include "render/layers/disk_splatter.hpp"
+#include "render/layers/sphere_culling.hpp"
 #include "render/layers/gl_buffer.hpp"
 
 namespace grainflow::render {
@@ -36,9 +37,17 @@ inline float category_coordinate(long long k, int n) {
 // disks no wider than 32 px, Sprites otherwise.
 enum class DiskMethod { Auto, Sprites, Splat };
 
+// Whether hidden spheres are dropped on the CPU before drawing (SphereCuller). Auto: on
+// software GL for ≥ 5,000 spheres, where every hidden fragment costs full ray casting.
+enum class SphereCulling { Auto, On, Off };
+
 class ParticleLayer {
 public:
   explicit ParticleLayer(const GlApi& gl);
+
+  SphereCulling sphere_culling = SphereCulling::Auto;
+  // Spheres sent to GL by the last draw_spheres() (after culling).
+  std::size_t last_spheres_drawn() const { return last_spheres_drawn_; }
 
   DiskMethod disk_method = DiskMethod::Auto;
 
@@ -66,6 +75,9 @@ private:
   GlBuffer pos_buffer_, value_buffer_;
   GlTexture colormap_texture_;
   DiskSplatter splatter_;
+  SphereCuller culler_;
+  std::vector<float> culled_pos_, culled_values_;
+  std::size_t last_spheres_drawn_ = 0;
   GlTexture splat_texture_;
   std::optional<ColormapId> uploaded_map_;
   bool uploaded_categorical_ = false;

@@ -83,8 +83,10 @@ void bench(GlContext& ctx, const char* what, const Snapshot& s, int msaa, int fr
     wall.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - a).count());
   }
   const double m = median(wall), mc = median(cpu);
-  std::printf("%-16s %-12s msaa %d : %7.1f ms/frame wall (%6.2f frames/s), %7.1f ms CPU\n", ctx.backend().c_str(),
+  std::printf("%-16s %-12s msaa %d : %7.1f ms/frame wall (%6.2f frames/s), %7.1f ms CPU", ctx.backend().c_str(),
               what, msaa, m * 1e3, 1 / m, mc * 1e3);
+  if (s.dim == 3) std::printf(", %zu of %zu spheres drawn after culling", r.particle_layer().last_spheres_drawn(), s.size());
+  std::printf("\n");
 }
 
 }  // namespace

@@ -176,6 +176,35 @@ TEST_P(GlRender, LargeParticlesUseQuadsAndStayRound) {
   EXPECT_NEAR(covered / expected, 1.0, 0.02);
 }
 
+// A dense block of spheres: culling hidden spheres on the CPU draws far fewer of them and
+// leaves the picture unchanged, in perspective and in orthographic views.
+TEST_P(GlRender, SphereCullingKeepsThePicture) {
+  Snapshot s;
+  s.dim = 3;
+  s.lo = {0, 0, 0};
+  s.hi = {20.4, 20.4, 20.4};
+  for (int k = 0; k < 20; ++k)
+    for (int j = 0; j < 20; ++j)
+      for (int i = 0; i < 20; ++i) {
+        s.pos_radius.insert(s.pos_radius.end(), {0.51f + i * 1.02f, 0.51f + j * 1.02f, 0.51f + k * 1.02f, 0.5f});
+        s.attribute.push_back(float(i + j + k));
+      }
+  for (bool ortho : {false, true}) {
+    FrameRenderer r(*ctx_, 400, 300);
+    FrameStyle style;
+    style.camera.orthographic = ortho;
+    r.particle_layer().sphere_culling = SphereCulling::Off;
+    const Image all = r.render(s, style);
+    EXPECT_EQ(r.particle_layer().last_spheres_drawn(), 8000u);
+    r.particle_layer().sphere_culling = SphereCulling::On;
+    const Image culled = r.render(s, style);
+    EXPECT_LT(r.particle_layer().last_spheres_drawn(), 4000u) << "ortho " << ortho;  // measured 3575 and 3046
+    const auto res = compare_images(all, culled, {0, 0.0});
+    EXPECT_TRUE(res.passed) << "ortho " << ortho << ": " << res.pixels_over << " pixels differ, max "
+                            << res.max_channel_diff;
+  }
+}
+
 TEST_P(GlRender, RejectsAbsurdSizes) {
   EXPECT_THROW(FrameRenderer(*ctx_, 0, 100), Error);
   EXPECT_THROW(FrameRenderer(*ctx_, 100000, 100), Error);
