@@ -202,7 +202,17 @@ public:
         min_length_(o.min_length),
         v_min_(o.min_speed_fraction * f.max_speed()),
         grid_(f.grid(), std::max(d_sep, std::max(f.grid().hi.x() - f.grid().lo.x(),
-                                                 f.grid().hi.y() - f.grid().lo.y()) / 1024.0)) {}
+                                                 f.grid().hi.y() - f.grid().lo.y()) / 1024.0)) {
+    // Hard cap on the arc of one direction, independent of max_length. Vertices of a line
+    // more than 2·d_test apart along it are at least d_test apart in space (self-proximity
+    // test), so picking one every 2·d_test + step <= 2.5·d_test of arc gives at most the
+    // disc-packing count 4(W + d_test)(H + d_test)/(π d_test²): no line is longer than
+    // about 3.2·(W + d_test)(H + d_test)/d_test. The cap 8·(W + 2 d_test)(H + 2 d_test)/d_test
+    // is well above that; with every step advancing at least kMinProgress·step (below), it
+    // bounds the number of steps of any line.
+    const double w = f.grid().hi.x() - f.grid().lo.x(), hgt = f.grid().hi.y() - f.grid().lo.y();
+    arc_cap_ = 8.0 * (w + 2.0 * d_test_) * (hgt + 2.0 * d_test_) / d_test_;
+  }
 
   // A usable seed: inside, unblocked, not stagnant, at least `clearance` from all lines.
   // `blocker` (optional) is the vertex that rejected the previous candidate on this side;
@@ -284,6 +294,7 @@ private:
   // Walks from pts.back() (the seed) in direction dir (+1 along v, -1 against it) until a
   // stop condition; returns true when the line closed onto its seed (forward only).
   bool trace_dir(int dir, int id, std::vector<StreamlinePoint>& pts, double budget) {
+    budget = std::min(budget, arc_cap_);
     const Vec2 seed = pts.front().position;
     Vec2 p = seed, vp;
     f_.sample(p, vp);
@@ -293,6 +304,13 @@ private:
     int closing_steps = 0;
     std::size_t closing_mark_pts = 0, closing_mark_grid = 0;
     constexpr std::size_t kMaxPoints = 4'000'000;  // memory guard only; lines end earlier
+    // Work bound: every step but the last advances >= kMinProgress·step_, so the budget
+    // (finite after the arc cap) is used up within this many steps; the closing approach
+    // adds at most d_test/step + 5.
+    const double max_steps_d = std::ceil(budget / (kMinProgress * step_)) + d_test_ / step_ + 16.0;
+    const std::size_t max_steps =
+        static_cast<std::size_t>(std::min(max_steps_d, static_cast<double>(kMaxPoints)));
+    std::size_t steps = 0;
     // A line that stops while approaching its seed is not a loop: drop the approach, which
     // ignored the self-proximity test.
     const auto stop = [&] {
@@ -302,11 +320,13 @@ private:
       }
       return false;
     };
-    while (pts.size() < kMaxPoints) {
+    while (pts.size() < kMaxPoints && steps++ < max_steps) {
       double h = std::min(step_, budget - s);
       if (!(h > 1e-9 * step_)) return stop();  // length budget used up
       Vec2 q, vq;
-      bool last = false;
+      // A partial step uses up the budget: it is the last one (no tail of ever smaller
+      // steps converging onto the limit).
+      bool last = h < step_;
       Step r = rk4(p, vp, dir * h, q, vq);
       if (r == Step::Stagnant) return stop();
       if (r == Step::Blocked) {
@@ -327,8 +347,15 @@ private:
         if (lo < 1e-3 * step_) return stop();
         q = best;
         vq = best_v;
+        h = lo;
         last = true;
       }
+      // No progress: the direction field turns back within one step (a line onto which
+      // the flow converges from both sides, a cusp or a near-stagnation knot of a noisy
+      // field: k1 + 2k2 + 2k3 + k4 ≈ 0). Continuing would creep towards the fold with ever
+      // shorter chords, the arc (and with it the self-proximity window and the length
+      // budget) would hardly grow, and the line would never end. Stop as at stagnation.
+      if ((q - p).norm() < kMinProgress * h) return stop();
       const double sq = s + (q - p).norm();
       const double signed_s = dir * sq;
       // Another line too close: stop (Jobard & Lefer's d_test).
@@ -374,8 +401,14 @@ private:
     return stop();
   }
 
+  // Smallest chord of a step, as a fraction of the step: the chord of an arc turning by θ
+  // is sinc(θ/2) of it, so 0.5 only rejects turns beyond 3.8 rad in one step (a radius of
+  // curvature under 0.26 step), which the fixed step cannot resolve anyway.
+  static constexpr double kMinProgress = 0.5;
+
   const VelocitySampler& f_;
   double d_sep_, d_test_, step_, own_window_, close_tol_, max_length_, min_length_, v_min_;
+  double arc_cap_ = std::numeric_limits<double>::infinity();
   PointGrid grid_;
 };
 

@@ -32,7 +32,9 @@ struct StreamlineOptions {
   double step_bins = 0.25;
   // Total length per line (both directions together: downstream gets half, upstream the
   // rest), domain units; 0 = no limit (lines still end: a line that returns onto itself
-  // is stopped or closed).
+  // is stopped or closed, one whose direction turns back within a step stops as at
+  // stagnation, and the arc per direction is capped at 8·(W + 2 d_test)(H + 2 d_test)/d_test,
+  // above what self-avoidance allows, so the work per line is bounded for any field).
   double max_length = 0.0;
   // Lines shorter than this (domain units) are discarded.
   double min_length = 0.0;
