@@ -17,7 +17,7 @@
 #include "engine/core/particle_reader.hpp"
 #include "render/context/gl_context.hpp"
 #include "render/frame_renderer.hpp"
-#include "render/output/async_sink.hpp"
+#include "render/output/fan_out_sink.hpp"
 #include "render/output/mp4_sink.hpp"
 #include "render/output/png_sequence_sink.hpp"
 #include "scenes/src/commands.hpp"
@@ -142,7 +142,7 @@ int run_render(const RenderArgs& a) {
     opt.preset = a.preset;
     sinks.push_back(std::make_unique<render::Mp4Sink>(mp4_path, opt));
   }
-  render::AsyncSink output(std::move(sinks));
+  const auto output = render::parallel_sinks(std::move(sinks));
 
   render::FrameStyle style;
   style.colormap = colormap;
@@ -171,7 +171,7 @@ int run_render(const RenderArgs& a) {
     snapshot.lo = lo;
     snapshot.hi = hi;
     if (layout) add_binned_fields(frame, lo, hi, a.bins, snapshot);
-    output.consume(layout ? renderer.render(snapshot, style, *layout) : renderer.render(snapshot, style), written,
+    output->consume(layout ? renderer.render(snapshot, style, *layout) : renderer.render(snapshot, style), written,
                    snapshot.time);
     ++written;
     const auto now = clock::now();
@@ -181,7 +181,7 @@ int run_render(const RenderArgs& a) {
       last_report = now;
     }
   } while (reader->next(frame));
-  output.finish();
+  output->finish();
   const double seconds = std::chrono::duration<double>(clock::now() - start).count();
   std::printf("%lld frames in %.2f s (%.1f frames/s)\n", static_cast<long long>(written), seconds,
               written / seconds);

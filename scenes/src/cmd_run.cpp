@@ -16,7 +16,7 @@
 #include "engine/core/xyz_writer.hpp"
 #include "render/context/gl_context.hpp"
 #include "render/frame_renderer.hpp"
-#include "render/output/async_sink.hpp"
+#include "render/output/fan_out_sink.hpp"
 #include "render/panel_layout.hpp"
 #include "render/output/mp4_sink.hpp"
 #include "render/output/png_sequence_sink.hpp"
@@ -119,7 +119,7 @@ int run_scene(const RunArgs& a) {
     opt.preset = scene.get<std::string>("output.preset");
     sinks.push_back(std::make_unique<render::Mp4Sink>(folder.file(name + ".mp4"), opt));
   }
-  render::AsyncSink output(std::move(sinks));
+  const auto output = render::parallel_sinks(std::move(sinks));
   std::optional<core::XyzWriter> particles;
   if (scene.get<bool>("output.particles")) particles.emplace(folder.file("particles.xyz").string());
   StatsCsv stats(folder.file("stats.csv"), runner->stats_columns());
@@ -156,7 +156,7 @@ int run_scene(const RunArgs& a) {
     // One colour range for the whole video, fixed at the first frame, so frames compare.
     if (frame_index == 0 && !snapshot.attribute.empty()) style.range = render::finite_range(snapshot.attribute);
     snapshot.caption = caption(scene, snapshot);
-    output.consume(renderer.render(snapshot, style, layout), frame_index++, snapshot.time);
+    output->consume(renderer.render(snapshot, style, layout), frame_index++, snapshot.time);
     if (particles) {
       to_particle_frame(snapshot, pframe);
       particles->write(pframe);
@@ -194,7 +194,7 @@ int run_scene(const RunArgs& a) {
       progress.update(done(), runner->work());
     }
     progress.finish(done(), runner->work());
-    output.finish();
+    output->finish();
     stats.finish();
     if (particles) particles->close();
   } catch (const std::exception& e) {

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "engine/core/error.hpp"
+#include "render/output/fan_out_sink.hpp"
 #include "render/output/png_sequence_sink.hpp"
 #include "output_test_support.hpp"
 
@@ -177,3 +178,30 @@ TEST(AsyncSink, WrapsARealPngSequence) {
 
 }  // namespace
 }  // namespace grainflow::render
+
+// parallel_sinks(): every sink gets every frame, in order, and is finished.
+TEST(ParallelSinks, EverySinkGetsEveryFrameInOrder) {
+  struct Recorder : grainflow::render::FrameSink {
+    std::vector<std::int64_t>* seen;
+    bool* finished;
+    Recorder(std::vector<std::int64_t>* s, bool* f) : seen(s), finished(f) {}
+    void consume(const grainflow::render::Image&, std::int64_t index, double) override { seen->push_back(index); }
+    void finish() override { *finished = true; }
+  };
+  std::vector<std::int64_t> a, b;
+  bool fa = false, fb = false;
+  std::vector<std::unique_ptr<grainflow::render::FrameSink>> sinks;
+  sinks.push_back(std::make_unique<Recorder>(&a, &fa));
+  sinks.push_back(std::make_unique<Recorder>(&b, &fb));
+  auto out = grainflow::render::parallel_sinks(std::move(sinks), 2);
+  const grainflow::render::Image img(8, 4);
+  for (int i = 0; i < 50; ++i) out->consume(img, i, 0.1 * i);
+  out->finish();
+  ASSERT_EQ(a.size(), 50u);
+  ASSERT_EQ(b.size(), 50u);
+  for (int i = 0; i < 50; ++i) {
+    EXPECT_EQ(a[i], i);
+    EXPECT_EQ(b[i], i);
+  }
+  EXPECT_TRUE(fa && fb);
+}
