@@ -50,16 +50,20 @@ void ParticleLayer::upload(std::span<const float> pos_radius, std::span<const fl
   gl_.VertexAttribDivisor(1, 1);
 }
 
+// The table both the GL texture and the CPU splatter sample: 256 entries of a continuous
+// map, or one entry per category.
+std::vector<Rgba8> ParticleLayer::colormap_texels(const ParticleDrawStyle& style) {
+  if (!style.categorical) return style.colormap.to_texture(256);
+  std::vector<Rgba8> texels;
+  for (int k = 0; k < style.colormap.size(); ++k) texels.push_back(to_rgba8(style.colormap.category(k)));
+  return texels;
+}
+
 void ParticleLayer::bind_colormap(const ParticleDrawStyle& style) {
   gl_.ActiveTexture(GL_TEXTURE0);
   gl_.BindTexture(GL_TEXTURE_2D, colormap_texture_.id());
   if (uploaded_map_ == style.colormap.id() && uploaded_categorical_ == style.categorical) return;
-  std::vector<Rgba8> texels;
-  if (style.categorical) {
-    for (int k = 0; k < style.colormap.size(); ++k) texels.push_back(to_rgba8(style.colormap.category(k)));
-  } else {
-    texels = style.colormap.to_texture(256);
-  }
+  const std::vector<Rgba8> texels = colormap_texels(style);
   gl_.TexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, static_cast<GLsizei>(texels.size()), 1, 0, GL_RGBA, GL_UNSIGNED_BYTE,
                  texels.data());
   const GLint filter = style.categorical ? GL_NEAREST : GL_LINEAR;
@@ -115,29 +119,14 @@ void ParticleLayer::draw_disks(const ViewTransform& view, int width, int height,
   gl_.Enable(GL_BLEND);
   gl_.BlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
   gl_.Disable(GL_DEPTH_TEST);
-  vao_.bind();
-  if (quads) {
-    gl_.DrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, static_cast<GLsizei>(count_));
-  } else {
-    gl_.Enable(GL_PROGRAM_POINT_SIZE);
-    // Per-instance attributes with divisor 1 would not advance for GL_POINTS drawn as
-    // vertices, so the point path draws one instance of `count_` points instead.
-    gl_.VertexAttribDivisor(0, 0);
-    gl_.VertexAttribDivisor(1, 0);
-    gl_.DrawArrays(GL_POINTS, 0, static_cast<GLsizei>(count_));
-  }
+  draw_uploaded(quads);
   gl_.Disable(GL_BLEND);
 }
 
 void ParticleLayer::draw_disks_splat(const ViewTransform& view, int width, int height,
                                      std::span<const float> pos_radius, std::span<const float> values,
                                      const ParticleDrawStyle& style) {
-  std::vector<Rgba8> texels;
-  if (style.categorical) {
-    for (int k = 0; k < style.colormap.size(); ++k) texels.push_back(to_rgba8(style.colormap.category(k)));
-  } else {
-    texels = style.colormap.to_texture(256);
-  }
+  const std::vector<Rgba8> texels = colormap_texels(style);
   const Rgba8 flat = to_rgba8(style.flat_colour ? *style.flat_colour : style.colormap.rgb(0.5));
   splatter_.splat(view, width, height, pos_radius, values, texels, style.categorical, flat,
                   to_rgba8(Colormap::kNanColour));
@@ -198,11 +187,17 @@ void ParticleLayer::draw_spheres(const ViewTransform& view, int width, int heigh
   gl_.DepthFunc(GL_LESS);
   gl_.DepthMask(GL_TRUE);
   gl_.Disable(GL_BLEND);
+  draw_uploaded(quads);
+}
+
+void ParticleLayer::draw_uploaded(bool quads) {
   vao_.bind();
   if (quads) {
     gl_.DrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, static_cast<GLsizei>(count_));
   } else {
     gl_.Enable(GL_PROGRAM_POINT_SIZE);
+    // Per-instance attributes with divisor 1 would not advance for GL_POINTS drawn as
+    // vertices, so the point path draws one instance of `count_` points instead.
     gl_.VertexAttribDivisor(0, 0);
     gl_.VertexAttribDivisor(1, 0);
     gl_.DrawArrays(GL_POINTS, 0, static_cast<GLsizei>(count_));

@@ -63,6 +63,8 @@ private:
   void draw_disks_splat(const ViewTransform& view, int width, int height, std::span<const float> pos_radius,
                         std::span<const float> values, const ParticleDrawStyle& style);
   void upload(std::span<const float> pos_radius, std::span<const float> values);
+  void draw_uploaded(bool quads);
+  static std::vector<Rgba8> colormap_texels(const ParticleDrawStyle& style);
   void bind_colormap(const ParticleDrawStyle& style);
   void set_colour_uniforms(const ShaderProgram& p, const ParticleDrawStyle& style, bool has_values);
   float max_radius(std::span<const float> pos_radius) const;

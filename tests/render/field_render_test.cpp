@@ -32,6 +32,7 @@
 #include "render/layers/colour_bar.hpp"
 #include "render/layers/text_renderer.hpp"
 #include "render/output/png_io.hpp"
+#include "tests/render/golden_support.hpp"
 #include "render/panel_renderer.hpp"
 
 namespace fs = std::filesystem;
@@ -111,37 +112,10 @@ FrameLayout layout_2x2() {
   return l;
 }
 
-std::unique_ptr<GlContext> context_or_skip(Backend b) {
-  try {
-    return create_context(b);
-  } catch (const Error&) {
-    return nullptr;
-  }
-}
-
-void check_golden(const Image& actual, const std::string& name) {
-  const fs::path golden = fs::path(GRAINFLOW_GOLDEN_DIR) / (name + ".png");
-  if (std::getenv("GRAINFLOW_UPDATE_GOLDEN")) {
-    write_png(golden, actual, {6, true});
-    GTEST_SKIP() << "golden image rewritten: " << golden;
-  }
-  ASSERT_TRUE(fs::exists(golden)) << "missing golden image " << golden << " (GRAINFLOW_UPDATE_GOLDEN=1 makes it)";
-  const Image expected = read_png(golden);
-  const auto r = compare_images(actual, expected, {kMaxChannel, kMaxFraction});
-  if (!r.passed) {
-    fs::create_directories(GRAINFLOW_TEST_OUT);
-    write_png(fs::path(GRAINFLOW_TEST_OUT) / (name + ".actual.png"), actual);
-    write_png(fs::path(GRAINFLOW_TEST_OUT) / (name + ".diff.png"), diff_heatmap(actual, expected));
-  }
-  EXPECT_TRUE(r.passed) << name << ": max channel diff " << r.max_channel_diff << ", mean " << r.mean_abs_diff
-                        << ", fraction over " << r.fraction_over << " (actual and diff written to "
-                        << GRAINFLOW_TEST_OUT << ")";
-}
-
 class FieldRender : public ::testing::TestWithParam<Backend> {
 protected:
   void SetUp() override {
-    ctx_ = context_or_skip(GetParam());
+    ctx_ = golden::context_or_null(GetParam());
     if (!ctx_) GTEST_SKIP() << "no " << backend_name(GetParam()) << " context on this machine";
   }
   std::unique_ptr<GlContext> ctx_;
@@ -151,7 +125,7 @@ TEST_P(FieldRender, PanelFrameMatchesGolden) {
   FrameRenderer r(*ctx_, 640, 400);
   FrameStyle style;
   style.range = std::pair{0.0, 1.6};
-  check_golden(r.render(field_scene(), style, layout_2x2()), "fields_2x2");
+  golden::check_golden(r.render(field_scene(), style, layout_2x2()), "fields_2x2", {kMaxChannel, kMaxFraction});
 }
 
 TEST_P(FieldRender, QuiverAndSpeedPanelsMatchGolden) {
@@ -164,7 +138,7 @@ TEST_P(FieldRender, QuiverAndSpeedPanelsMatchGolden) {
   s.pos_radius.clear();
   s.attribute.clear();
   s.caption = "quiver and bilinear |v|";
-  check_golden(r.render(s, FrameStyle{}, l), "fields_quiver");
+  golden::check_golden(r.render(s, FrameStyle{}, l), "fields_quiver", {kMaxChannel, kMaxFraction});
 }
 
 TEST_P(FieldRender, ChangedFieldFailsComparison) {

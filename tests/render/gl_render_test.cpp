@@ -22,6 +22,7 @@
 #include "render/frame_renderer.hpp"
 #include "render/image/compare.hpp"
 #include "render/output/png_io.hpp"
+#include "tests/render/golden_support.hpp"
 
 namespace fs = std::filesystem;
 using namespace grainflow;
@@ -70,37 +71,10 @@ Snapshot sphere_scene() {
   return s;
 }
 
-std::unique_ptr<GlContext> context_or_skip(Backend b) {
-  try {
-    return create_context(b);
-  } catch (const Error& e) {
-    return nullptr;
-  }
-}
-
-void check_golden(const Image& actual, const std::string& name) {
-  const fs::path golden = fs::path(GRAINFLOW_GOLDEN_DIR) / (name + ".png");
-  if (std::getenv("GRAINFLOW_UPDATE_GOLDEN")) {
-    write_png(golden, actual, {6, true});
-    GTEST_SKIP() << "golden image rewritten: " << golden;
-  }
-  ASSERT_TRUE(fs::exists(golden)) << "missing golden image " << golden << " (GRAINFLOW_UPDATE_GOLDEN=1 makes it)";
-  const Image expected = read_png(golden);
-  const auto r = compare_images(actual, expected, {kMaxChannel, kMaxFraction});
-  if (!r.passed) {
-    fs::create_directories(GRAINFLOW_TEST_OUT);
-    write_png(fs::path(GRAINFLOW_TEST_OUT) / (name + ".actual.png"), actual);
-    write_png(fs::path(GRAINFLOW_TEST_OUT) / (name + ".diff.png"), diff_heatmap(actual, expected));
-  }
-  EXPECT_TRUE(r.passed) << name << ": max channel diff " << r.max_channel_diff << ", mean " << r.mean_abs_diff
-                        << ", fraction over " << r.fraction_over << " (actual and diff written to "
-                        << GRAINFLOW_TEST_OUT << ")";
-}
-
 class GlRender : public ::testing::TestWithParam<Backend> {
 protected:
   void SetUp() override {
-    ctx_ = context_or_skip(GetParam());
+    ctx_ = golden::context_or_null(GetParam());
     if (!ctx_) GTEST_SKIP() << "no " << backend_name(GetParam()) << " context on this machine";
   }
   std::unique_ptr<GlContext> ctx_;
@@ -109,7 +83,7 @@ protected:
 TEST_P(GlRender, DisksMatchGolden) {
   FrameRenderer r(*ctx_, 320, 200);
   FrameStyle style;
-  check_golden(r.render(disk_scene(), style), "disks_2d");
+  golden::check_golden(r.render(disk_scene(), style), "disks_2d", {kMaxChannel, kMaxFraction});
 }
 
 TEST_P(GlRender, SpheresMatchGolden) {
@@ -117,7 +91,7 @@ TEST_P(GlRender, SpheresMatchGolden) {
   FrameStyle style;
   style.colormap = Colormap(ColormapId::inferno);
   style.range = std::pair{0.0, 3.0};
-  check_golden(r.render(sphere_scene(), style), "spheres_3d");
+  golden::check_golden(r.render(sphere_scene(), style), "spheres_3d", {kMaxChannel, kMaxFraction});
 }
 
 // The comparator must notice a single moved particle at the thresholds used above.
