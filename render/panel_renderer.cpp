@@ -69,6 +69,26 @@ void PanelRenderer::draw(FrameRenderer& frame, const Snapshot& s, const FrameSty
   bars_.clear();
   streamline_count_ = 0;
 
+  // Planar panels show the sampling plane. Its rectangle is the field grid's, which for a
+  // 3D snapshot may be the x–z or y–z plane rather than the box's x–y face; for 3D, the
+  // outline drawn there is that rectangle alone.
+  Eigen::Vector2d plane_lo = s.lo.head<2>(), plane_hi = s.hi.head<2>();
+  if (!s.fields.empty()) {
+    plane_lo = s.fields.front().field.grid.lo;
+    plane_hi = s.fields.front().field.grid.hi;
+  } else if (s.velocity) {
+    plane_lo = s.velocity->grid.lo;
+    plane_hi = s.velocity->grid.hi;
+  }
+  Snapshot plane_outline;
+  const Snapshot* planar_geometry = &s;
+  if (s.dim == 3) {
+    plane_outline.dim = 2;
+    plane_outline.lo = {plane_lo.x(), plane_lo.y(), 0.0};
+    plane_outline.hi = {plane_hi.x(), plane_hi.y(), 0.0};
+    planar_geometry = &plane_outline;
+  }
+
   gl_.Enable(GL_SCISSOR_TEST);
   const std::size_t n = std::min(layout.panels.size(), geo.panels.size());
   for (std::size_t i = 0; i < n; ++i) {
@@ -79,7 +99,7 @@ void PanelRenderer::draw(FrameRenderer& frame, const Snapshot& s, const FrameSty
     gl_.Viewport(plot.x, height - plot.bottom(), plot.w, plot.h);
     gl_.Scissor(plot.x, height - plot.bottom(), plot.w, plot.h);
     const bool planar = spec.kind != PanelKind::particles;
-    const ViewTransform view = planar ? fit_2d(s.lo.head<2>(), s.hi.head<2>(), plot.w, plot.h)
+    const ViewTransform view = planar ? fit_2d(plane_lo, plane_hi, plot.w, plot.h)
                                       : frame.scene_view(s, style, plot.w, plot.h);
     const Colormap cmap = spec.colormap ? *spec.colormap : style.colormap;
     std::optional<PendingBar> bar;
@@ -110,7 +130,7 @@ void PanelRenderer::draw(FrameRenderer& frame, const Snapshot& s, const FrameSty
         }
         const auto range = resolve_range(*f, spec.range);
         fields_.draw(view, *f, range, cmap, spec.filter);
-        frame.draw_geometry(s, style, view, plot.w, plot.h, true);
+        frame.draw_geometry(*planar_geometry, style, view, plot.w, plot.h, true);
         bar = PendingBar{{}, range, cmap, label, g.tick_px};
         break;
       }
@@ -134,7 +154,7 @@ void PanelRenderer::draw(FrameRenderer& frame, const Snapshot& s, const FrameSty
           range = streamlines_.draw(view, plot.w, plot.h, *s.velocity, solids_, st, reference);
         }
         streamline_count_ += streamlines_.last_line_count();
-        frame.draw_geometry(s, style, view, plot.w, plot.h, true);
+        frame.draw_geometry(*planar_geometry, style, view, plot.w, plot.h, true);
         bar = PendingBar{{}, range, cmap, speed_label, g.tick_px};
         break;
       }
@@ -147,7 +167,8 @@ void PanelRenderer::draw(FrameRenderer& frame, const Snapshot& s, const FrameSty
                 TextAlign::centre, TextAnchor::middle);
     if (bar && spec.colour_bar) {
       // Beside the drawn domain, as tall as it, leaving room for the label above.
-      const PixelRect dom = projected_rect(view, plot, s.lo.head<2>(), s.hi.head<2>());
+      const PixelRect dom = planar ? projected_rect(view, plot, plane_lo, plane_hi)
+                                   : projected_rect(view, plot, s.lo.head<2>(), s.hi.head<2>());
       const int gap = std::max(4, int(0.7 * g.tick_px));
       const int top = std::max(dom.y, plot.y + int(1.5 * g.tick_px));
       const int bottom = std::min(dom.bottom(), g.panel.bottom() - g.tick_px / 2);

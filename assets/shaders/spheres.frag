@@ -10,12 +10,13 @@ in vec2 v_coord;
 uniform mat4 u_proj;
 uniform mat4 u_inv_proj;
 uniform vec2 u_viewport;
+uniform vec2 u_viewport_origin;  // window position of the viewport (panels)
 uniform sampler2D u_colormap;
 uniform vec4 u_flat_colour;
 uniform vec3 u_nan_colour;
 out vec4 frag_colour;
 void main() {
-  vec2 ndc = gl_FragCoord.xy / u_viewport * 2.0 - 1.0;
+  vec2 ndc = (gl_FragCoord.xy - u_viewport_origin) / u_viewport * 2.0 - 1.0;
   vec4 pn = u_inv_proj * vec4(ndc, -1.0, 1.0);
   vec4 pf = u_inv_proj * vec4(ndc, 1.0, 1.0);
   vec3 o = pn.xyz / pn.w;

@@ -183,6 +183,10 @@ void ParticleLayer::draw_spheres(const ViewTransform& view, int width, int heigh
   gl_.UniformMatrix4fv(p.uniform("u_proj"), 1, GL_FALSE, view.proj.data());
   gl_.UniformMatrix4fv(p.uniform("u_inv_proj"), 1, GL_FALSE, inv_proj.data());
   gl_.Uniform2f(p.uniform("u_viewport"), float(width), float(height));
+  // The ray of a pixel comes from gl_FragCoord, which counts from the window's corner.
+  GLint vp[4] = {0, 0, 0, 0};
+  gl_.GetIntegerv(GL_VIEWPORT, vp);
+  gl_.Uniform2f(p.uniform("u_viewport_origin"), float(vp[0]), float(vp[1]));
   gl_.Enable(GL_DEPTH_TEST);
   gl_.DepthFunc(GL_LESS);
   gl_.DepthMask(GL_TRUE);

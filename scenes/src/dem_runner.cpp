@@ -64,10 +64,16 @@ dem::Config dem_config(const Scene& sc) {
   const std::string kind = sc.get<std::string>("system.initial.kind");
   std::vector<Vec3> sites;
   if (kind == "lattice") {
-    // Simple cubic at 2.04 r_max, filled x fastest from the bottom.
-    const double a = 2.04 * rmax;
+    // Simple cubic, spread through the whole box (spacing cbrt(V/N), at least 2.04 r_max)
+    // so a free-fall scene starts with the particles apart and falling, x fastest.
+    const double volume = box[0] * box[1] * box[2];
+    double a = std::max(2.04 * rmax, std::cbrt(volume / double(total)));
+    auto sites_at = [&](double spacing) {
+      return std::size_t(box[0] / spacing) * std::size_t(box[1] / spacing) * std::size_t(box[2] / spacing);
+    };
+    while (a > 2.04 * rmax && sites_at(a) < total) a = std::max(2.04 * rmax, a * 0.99);
     const int nx = int(box[0] / a), ny = int(box[1] / a), nz = int(box[2] / a);
-    if (std::size_t(nx) * ny * nz < total)
+    if (sites_at(a) < total)
       throw Error("system.initial.kind = \"lattice\": " + std::to_string(total) + " particles do not fit a " +
                   std::to_string(nx) + "×" + std::to_string(ny) + "×" + std::to_string(nz) +
                   " lattice at spacing 2.04 r in the box; enlarge system.box or lower the counts");
