@@ -23,6 +23,7 @@
 #include "scenes/src/commands.hpp"
 #include "scenes/src/field_snapshot.hpp"
 #include "scenes/src/particle_snapshot.hpp"
+#include "scenes/src/run_folder.hpp"
 
 namespace grainflow::scenes {
 namespace fs = std::filesystem;
@@ -72,26 +73,6 @@ void add_binned_fields(const core::ParticleFrame& frame, const Eigen::Vector3d& 
   s.labels.emplace_back("bins", std::to_string(bins[0]) + " × " + std::to_string(bins[1]));
 }
 
-// A folder that already holds output is never overwritten silently.
-void prepare_output_dir(const fs::path& dir, bool force) {
-  std::error_code ec;
-  if (fs::exists(dir, ec) && !fs::is_directory(dir, ec))
-    throw Error("output '" + dir.string() + "' exists and is not a directory");
-  if (fs::exists(dir / "frames", ec) && !fs::is_empty(dir / "frames", ec) && !force)
-    throw Error("output folder '" + dir.string() + "' already holds frames; choose another -o or pass --force");
-  fs::create_directories(dir, ec);
-  if (ec) throw Error("cannot create output folder '" + dir.string() + "': " + ec.message());
-  // Probe writability now rather than after the first (possibly slow) frame.
-  const fs::path probe = dir / ".grainflow-write-test";
-  if (std::FILE* f = std::fopen(probe.c_str(), "w")) {
-    std::fclose(f);
-    fs::remove(probe, ec);
-  } else {
-    throw Error("output folder '" + dir.string() + "' is not writable");
-  }
-  if (force) fs::remove_all(dir / "frames", ec);
-}
-
 int run_render(const RenderArgs& a) {
   if (a.size.size() != 2 || a.size[0] < 16 || a.size[1] < 16 || a.size[0] > 8192 || a.size[1] > 8192)
     throw Error("--size must be two integers W H, each in 16..8192");
@@ -121,13 +102,17 @@ int run_render(const RenderArgs& a) {
   core::ParticleFrame frame;
   if (!reader->next(frame)) throw Error("'" + a.input + "' holds no frame");
 
-  const fs::path dir(a.out_dir);
-  prepare_output_dir(dir, a.force);
+  // Option values are checked before anything is created on disk.
   const render::Colormap colormap = render::Colormap::by_name(a.colormap);
+  const render::Backend backend = render::parse_backend(a.backend);
+  // The same folder rules as `grainflow run`: a folder holding earlier output is not
+  // overwritten without --force, and an unwritable one fails before the first frame.
+  const RunFolder folder = RunFolder::open(a.out_dir, a.force ? RunFolderMode::Force : RunFolderMode::Fresh);
+  const fs::path dir = folder.dir();
   const std::string attribute = a.colour_by.empty() ? default_colour_attribute(frame) : a.colour_by;
 
   std::string notice;
-  auto ctx = render::create_context(render::parse_backend(a.backend), &notice);
+  auto ctx = render::create_context(backend, &notice);
   if (!notice.empty()) std::fprintf(stderr, "grainflow: %s\n", notice.c_str());
   const int msaa = a.msaa >= 0 ? a.msaa : (frame.dim == 3 ? 4 : 0);
   render::FrameRenderer renderer(*ctx, a.size[0], a.size[1], msaa);

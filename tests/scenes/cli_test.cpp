@@ -95,6 +95,17 @@ TEST(CliRender, UnknownBackendIsAnError) {
   EXPECT_EQ(r.status, 2);
   EXPECT_TRUE(contains(r.output, "vulkan")) << r.output;
   EXPECT_TRUE(contains(r.output, "auto, egl, osmesa")) << r.output;
+  EXPECT_FALSE(fs::exists(out));  // nothing is created for a command that cannot run
+}
+
+TEST(CliRender, RefusesToOverwriteEarlierFramesWithoutForce) {
+  const fs::path out = fresh_dir("render_twice");
+  const std::string args = "render " + data + "/particles/plain_two_frames.xyz -o " + out.string() + " --size 64 48";
+  ASSERT_EQ(run(args).status, 0);
+  const Result r = run(args);
+  EXPECT_EQ(r.status, 2);
+  EXPECT_TRUE(contains(r.output, "--force")) << r.output;
+  EXPECT_EQ(run(args + " --force").status, 0);
 }
 
 TEST(CliRender, ZeroOrAbsurdSizeIsAnError) {
