@@ -123,6 +123,7 @@ int run_scene(const RunArgs& a) {
   std::optional<core::XyzWriter> particles;
   if (scene.get<bool>("output.particles")) particles.emplace(folder.file("particles.xyz").string());
   StatsCsv stats(folder.file("stats.csv"), runner->stats_columns());
+  runner->open_outputs(folder.dir());
 
   RunRecord record = make_run_record(scene);
   record.backend = ctx->backend() + " (" + ctx->gl_renderer() + ")";
@@ -196,6 +197,7 @@ int run_scene(const RunArgs& a) {
     progress.finish(done(), runner->work());
     output->finish();
     stats.finish();
+    runner->finish_outputs();
     if (particles) particles->close();
   } catch (const std::exception& e) {
     record.status = RunStatus::Failed;

@@ -1,18 +1,69 @@
 // `grainflow run` adapter of the 3D DEM engine (engine/dem): scene keys → dem::Config
-// (SI units), frames of spheres, stats rows of energies, contacts and wall forces.
+// (SI units), frames of spheres, stats rows of energies, contacts and wall forces, and
+// optionally pair.csv: the force–separation record of particles 1 and 2 (seed 000 §5.4).
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <optional>
 #include <string>
 
+#include "engine/core/atomic_file.hpp"
 #include "engine/core/error.hpp"
+#include "engine/core/particle_reader.hpp"
 #include "engine/dem/field_sampler.hpp"
 #include "engine/dem/simulation.hpp"
+#include "engine/dem/vdw_cohesion.hpp"
 #include "scenes/src/engine_runner.hpp"
 #include "scenes/src/field_snapshot.hpp"
 #include "scenes/src/scene.hpp"
 
 namespace grainflow::scenes {
 namespace {
+
+// system.initial.kind = "file" (seed 000 §2.1, "read from a list"): the first frame of
+// system.initial.file gives positions, radii (0 → the group's radius) and velocities;
+// particle type t belongs to group t − 1, and each group's N must equal its type's count.
+std::vector<dem::ParticleInit> particles_from_file(const Scene& sc, const std::vector<std::size_t>& counts) {
+  const std::string name = sc.get<std::string>("system.initial.file");
+  std::filesystem::path path(name);
+  if (path.is_relative() && !sc.source().empty()) path = sc.source().parent_path() / path;
+  auto reader = core::open_particle_file(path.string());
+  core::ParticleFrame f;
+  if (!reader->next(f))
+    throw Error("system.initial.file = \"" + name + "\": " + path.string() + " holds no particle frame");
+  std::size_t total = 0;
+  for (auto n : counts) total += n;
+  if (f.size() != total)
+    throw Error("system.initial.file = \"" + name + "\": the file has " + std::to_string(f.size()) +
+                " particles but the groups' N add up to " + std::to_string(total) +
+                "; make the system.group N counts add up to the file's particle count");
+  // The readers report radius 0.5 for every particle when the file has no radius or
+  // diameter column; such a frame takes the groups' radii.
+  const bool has_radii = std::any_of(f.radius.begin(), f.radius.end(), [](double r) { return r != 0.5; });
+  std::vector<std::size_t> seen(counts.size(), 0);
+  std::vector<dem::ParticleInit> out(f.size());
+  for (std::size_t i = 0; i < f.size(); ++i) {
+    const int t = f.type[i];
+    if (t < 1 || std::size_t(t) > counts.size())
+      throw Error("system.initial.file = \"" + name + "\": particle " + std::to_string(i + 1) + " has type " +
+                  std::to_string(t) + ", but the scene has " + std::to_string(counts.size()) +
+                  " [[system.group]] table(s); allowed types: 1.." + std::to_string(counts.size()) +
+                  " (type t is group t − 1)");
+    dem::ParticleInit& p = out[i];
+    p.x = f.position[i];
+    p.group = t - 1;
+    p.radius = has_radii ? f.radius[i] : 0.0;
+    if (f.has_velocity()) p.v = f.velocity[i];
+    ++seen[std::size_t(t - 1)];
+  }
+  for (std::size_t g = 0; g < counts.size(); ++g)
+    if (seen[g] != counts[g])
+      throw Error("system.group[" + std::to_string(g) + "].N = " + std::to_string(counts[g]) + ", but " + name +
+                  " holds " + std::to_string(seen[g]) + " particles of type " + std::to_string(g + 1) +
+                  "; N must equal the file's count of its type");
+  return out;
+}
 
 dem::Config dem_config(const Scene& sc) {
   dem::Config c;
@@ -22,6 +73,11 @@ dem::Config dem_config(const Scene& sc) {
   const auto periodic = sc.get<std::array<bool, 3>>("boundary.periodic");
   c.box.periodic = {periodic[0], periodic[1], periodic[2]};
   c.box.open_top = sc.get<std::string>("boundary.top") == "open";
+  // Plane Couette: the z walls slide in their own plane (the schema allows only vx, vy).
+  const auto top_v = sc.get<std::array<double, 2>>("boundary.top_velocity");
+  const auto bottom_v = sc.get<std::array<double, 2>>("boundary.bottom_velocity");
+  c.box.wall_velocity[5] = {top_v[0], top_v[1], 0.0};
+  c.box.wall_velocity[4] = {bottom_v[0], bottom_v[1], 0.0};
   const auto g = sc.get<std::array<double, 3>>("system.gravity");
   c.gravity = {g[0], g[1], g[2]};
   if (auto dt = sc.find<double>("system.dt")) c.dt = *dt;
@@ -51,6 +107,7 @@ dem::Config dem_config(const Scene& sc) {
       p.alpha_min = sc.get<double>("system.vdw.alpha_min");
       p.alpha_cut = sc.get<double>("system.vdw.cutoff");
       p.vdw_radius = sc.get<double>("system.vdw.asperity_radius");
+      p.r_ss = sc.get<double>("system.vdw.r_ss");
     }
     c.groups.push_back(gc);
     counts.push_back(std::size_t(sc.get<std::int64_t>(key + "N")));
@@ -87,8 +144,8 @@ dem::Config dem_config(const Scene& sc) {
     sites = dem::random_positions(c.box.lo, c.box.hi, rmax * c.growth_start, total,
                                   std::uint64_t(sc.get<std::int64_t>("run.seed")));
   } else {
-    throw Error("system.initial.kind = \"file\": reading initial positions from a file is not wired into "
-                "`grainflow run` yet; allowed: \"lattice\", \"random\"");
+    c.particles = particles_from_file(sc, counts);
+    return c;
   }
   std::size_t k = 0;
   for (std::size_t gi = 0; gi < counts.size(); ++gi)
@@ -118,13 +175,89 @@ core::BinningOptions binning_options(const Scene& sc, const dem::Config& cfg) {
   return opt;
 }
 
+// pair.csv (output.pair_csv): particles 1 and 2 of the scene every output.pair_every
+// steps, the force–separation record of Fig. 5.6–5.16. α = |x₂ − x₁| − r₁ − r₂ (negative
+// = overlap, minimum image across periodic axes); forces along n = (x₂ − x₁)/|x₂ − x₁|,
+// positive = repulsive: normal_force = F₂·n (all forces on particle 2, i.e. the pair force
+// when nothing else touches it), vdw_force = the attraction of Eq. 5.29 at α (0 without
+// [system.vdw]), contact_force = normal_force + vdw_force (the spring alone, Fig. 5.11);
+// v_rel_n = (v₂ − v₁)·n (positive = separating). Written through AtomicFile.
+class PairProbe {
+public:
+  PairProbe(const std::filesystem::path& file, const Scene& sc) : file_(file) {
+    out_ = std::fopen(file_.path().c_str(), "w");
+    if (!out_) throw Error("cannot write " + file_.path().string());
+    std::fputs("step,time,separation,normal_force,vdw_force,contact_force,v_rel_n\n", out_);
+    if (sc.has("system.vdw")) {
+      vdw_.emplace();
+      vdw_->hamaker = sc.get<double>("system.vdw.A");
+      vdw_->asperity = sc.get<double>("system.vdw.asperity_radius");
+      vdw_->rss6 = std::pow(sc.get<double>("system.vdw.r_ss"), 6);
+      vdw_->alpha_min = sc.get<double>("system.vdw.alpha_min");
+      vdw_->alpha_cut = sc.get<double>("system.vdw.cutoff");
+    }
+  }
+  ~PairProbe() {
+    if (out_) std::fclose(out_);
+  }
+  PairProbe(const PairProbe&) = delete;
+  PairProbe& operator=(const PairProbe&) = delete;
+
+  void record(const dem::Simulation& sim) {
+    const auto& b = sim.config().box;
+    Vec3 d = sim.position(1) - sim.position(0);
+    for (int a = 0; a < 3; ++a)
+      if (b.periodic[std::size_t(a)]) {
+        const double L = b.hi[a] - b.lo[a];
+        d[a] -= L * std::round(d[a] / L);
+      }
+    const double dist = d.norm();
+    const Vec3 n = dist > 0 ? Vec3(d / dist) : Vec3(1, 0, 0);
+    const double r0 = sim.radius(0), r1 = sim.radius(1);
+    const double gap = dist - r0 - r1;
+    const double fn = sim.force(1).dot(n);
+    double fv = 0;
+    if (vdw_ && gap < vdw_->alpha_cut) {
+      const double reff = vdw_->asperity > 0 ? 0.5 * vdw_->asperity : r0 * r1 / (r0 + r1);
+      fv = dem::VdwCohesion::vdw_force(vdw_->hamaker, reff, vdw_->rss6, std::max(gap, vdw_->alpha_min));
+    }
+    const double vn = (sim.velocity(1) - sim.velocity(0)).dot(n);
+    std::fprintf(out_, "%llu,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g\n", static_cast<unsigned long long>(sim.steps()),
+                 sim.time(), gap, fn, fv, fn + fv, vn);
+  }
+  void finish() {
+    const bool ok = std::fclose(out_) == 0;
+    out_ = nullptr;
+    if (!ok) throw Error("cannot write " + file_.path().string());
+    file_.commit();
+  }
+
+private:
+  core::AtomicFile file_;
+  std::FILE* out_ = nullptr;
+  std::optional<dem::VdwCohesion::Params> vdw_;
+};
+
 class DemRunner final : public EngineRunner {
 public:
   explicit DemRunner(const Scene& sc)
       : sim_(dem_config(sc)),
         fields_(binning_options(sc, sim_.config())),
         sample_every_(sc.get<double>("sample.exposure") / kSamplesPerExposure),
-        next_sample_(sim_.time() + sample_every_) {}
+        next_sample_(sim_.time() + sample_every_),
+        scene_(sc),
+        pair_every_(std::uint64_t(sc.get<std::int64_t>("output.pair_every"))) {}
+
+  void open_outputs(const std::filesystem::path& dir) override {
+    if (!scene_.get<bool>("output.pair_csv")) return;
+    if (sim_.size() < 2)
+      throw Error("output.pair_csv = true needs at least 2 particles; the scene has " + std::to_string(sim_.size()));
+    pair_.emplace(dir / "pair.csv", scene_);
+    pair_->record(sim_);
+  }
+  void finish_outputs() override {
+    if (pair_) pair_->finish();
+  }
 
   double time() const override { return sim_.time(); }
   void advance_to(double t) override {
@@ -133,7 +266,7 @@ public:
     while (true) {
       const double until = std::min(t, next_sample_);
       const double steps = std::floor((until - sim_.time()) / sim_.dt() + 1e-9);
-      sim_.step(std::uint64_t(std::max(1.0, steps)));
+      step(std::uint64_t(std::max(1.0, steps)));
       if (sim_.time() >= next_sample_ - 0.5 * sim_.dt()) {
         dem::sample_fields(sim_, fields_);
         next_sample_ += sample_every_;
@@ -141,7 +274,7 @@ public:
       if (sim_.time() >= t - 0.5 * sim_.dt()) break;
     }
   }
-  void advance_steps(std::uint64_t n) override { sim_.step(n); }
+  void advance_steps(std::uint64_t n) override { step(n); }
   std::uint64_t steps_done() const override { return sim_.steps(); }
 
   void snapshot(const std::string& colour_by, render::Snapshot& s) override {
@@ -207,9 +340,23 @@ public:
   }
 
 private:
+  // Steps the engine, stopping every pair_every steps for the pair record when asked.
+  void step(std::uint64_t n) {
+    if (!pair_) return sim_.step(n);
+    while (n > 0) {
+      const std::uint64_t k = std::min(n, pair_every_ - sim_.steps() % pair_every_);
+      sim_.step(k);
+      n -= k;
+      if (sim_.steps() % pair_every_ == 0) pair_->record(sim_);
+    }
+  }
+
   dem::Simulation sim_;
   core::BinAccumulator fields_;
   double sample_every_, next_sample_;
+  Scene scene_;
+  std::uint64_t pair_every_;
+  std::optional<PairProbe> pair_;
 };
 
 }  // namespace

@@ -3,6 +3,7 @@
 // throughput. One adapter per engine (ed_runner.cpp, dem_runner.cpp), registered in
 // engines.cpp.
 #pragma once
+#include <filesystem>
 #include <memory>
 #include <string>
 #include <string_view>
@@ -41,6 +42,12 @@ public:
   virtual std::string work_unit() const = 0;
   // Totals for run.json.
   virtual std::vector<std::pair<std::string, double>> figures() const = 0;
+
+  // Engine-specific files in the run folder (DEM: pair.csv). open_outputs() is called once
+  // before the first step; finish_outputs() renames them into place when the run ends
+  // (complete or interrupted). A failed run leaves only temporaries, which are removed.
+  virtual void open_outputs(const std::filesystem::path& /*run_dir*/) {}
+  virtual void finish_outputs() {}
 };
 
 std::unique_ptr<EngineRunner> make_ed_runner(const Scene& scene);

@@ -8,7 +8,9 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <string>
+#include <vector>
 
 #include "render/image/image.hpp"
 #include "render/output/png_io.hpp"
@@ -198,6 +200,148 @@ TEST(CliRun, BadSceneStopsBeforeTheRunWithKeyAndValue) {
   EXPECT_TRUE(contains(r.output, "system.area_fraction")) << r.output;
   EXPECT_TRUE(contains(r.output, "0.95")) << r.output;
   EXPECT_TRUE(contains(r.output, "render.colour")) << r.output;
+  EXPECT_FALSE(fs::exists(out));
+}
+
+// Rows of a CSV file with a header: column name → values.
+std::map<std::string, std::vector<double>> read_csv(const fs::path& file) {
+  std::map<std::string, std::vector<double>> cols;
+  std::ifstream in(file);
+  std::string line;
+  std::getline(in, line);
+  std::vector<std::string> names;
+  for (std::size_t a = 0, b; a <= line.size(); a = b + 1) {
+    b = std::min(line.find(',', a), line.size());
+    names.push_back(line.substr(a, b - a));
+  }
+  while (std::getline(in, line)) {
+    std::size_t a = 0;
+    for (const auto& n : names) {
+      std::size_t b = std::min(line.find(',', a), line.size());
+      cols[n].push_back(std::stod(line.substr(a, b - a)));
+      a = b + 1;
+    }
+  }
+  return cols;
+}
+
+TEST(CliRun, DemVanDerWaalsPairOscillatesAndSettles) {
+  // Seed 000 §5.4 through the scene: two spheres released 5 nm apart attract, collide and
+  // stay bound, each rebound lower than the last (Fig. 5.14–5.16).
+  const fs::path out = fresh_dir("run_vdw_pair");
+  const Result r = run("run " + scenes + "/dem_vdw_pair.toml -o " + out.string() +
+                       " --set run.until=2.5e-5 --set sample.exposure=1.25e-5 --set output.mp4=false"
+                       " --set 'render.size=[64,64]' --set output.pair_every=5");
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_FALSE(fs::exists(out / "pair.csv.partial"));
+  auto csv = read_csv(out / "pair.csv");
+  const auto& gap = csv["separation"];
+  ASSERT_GT(gap.size(), 10000u);
+  // Row 0: at rest, 5 nm apart, only the attraction of Eq. 5.28: A R/(12 α²).
+  const double R = 3.175e-5, A = 1e-18, gap0 = 5e-9;
+  EXPECT_NEAR(gap[0], gap0, 1e-15);
+  EXPECT_NEAR(csv["vdw_force"][0], A * R / (12 * gap0 * gap0), 1e-6 * A * R / (12 * gap0 * gap0));
+  EXPECT_NEAR(csv["normal_force"][0], -csv["vdw_force"][0], 1e-20);
+  EXPECT_EQ(csv["contact_force"][0], 0.0);
+  EXPECT_EQ(csv["step"][1], 5.0);
+  // During overlap the spring pushes apart: contact force = K1·overlap while loading.
+  double max_overlap = 0, max_spring = 0;
+  for (std::size_t i = 0; i < gap.size(); ++i) {
+    max_overlap = std::max(max_overlap, -gap[i]);
+    max_spring = std::max(max_spring, csv["contact_force"][i]);
+  }
+  EXPECT_NEAR(max_spring, 1e7 * max_overlap, 0.02 * max_spring);
+  // Largest separation of each excursion between contacts.
+  std::vector<double> peaks;
+  double cur = -1;
+  bool touching = false, contacted = false;
+  for (double g : gap) {
+    EXPECT_LE(g, gap0 * (1 + 1e-9));  // never back to the release separation
+    if (g < 0 && !touching) {
+      touching = true;
+      if (contacted && cur > 0) peaks.push_back(cur);
+      contacted = true;
+      cur = -1;
+    } else if (g >= 0) {
+      touching = false;
+      if (contacted) cur = std::max(cur, g);
+    }
+  }
+  ASSERT_GE(peaks.size(), 4u);
+  EXPECT_LT(peaks[0], gap0);
+  for (std::size_t k = 1; k < peaks.size(); ++k) EXPECT_LT(peaks[k], peaks[k - 1]) << k;
+}
+
+TEST(CliRun, DemInitialFileErrorsNameTheNumbers) {
+  const fs::path out = fresh_dir("run_file_count");
+  const Result r = run("run " + scenes + "/dem_vdw_pair.toml -o " + out.string() +
+                       " --set 'system.group[0].N=3' --set output.mp4=false");
+  EXPECT_NE(r.status, 0);
+  EXPECT_TRUE(contains(r.output, "has 2 particles")) << r.output;
+  EXPECT_TRUE(contains(r.output, "add up to 3")) << r.output;
+  EXPECT_FALSE(fs::exists(out / "pair.csv"));
+}
+
+TEST(CliRun, DemCouetteTopLayerFollowsTheSlidingWall) {
+  // Plane Couette: the top wall slides along +x at U, the bottom wall rests; after a short
+  // run the spheres next to the top move along +x faster than those next to the bottom.
+  const fs::path out = fresh_dir("run_couette");
+  const double U = 0.2, Lz = 0.008, d = 1e-3;
+  const Result r = run("run " + scenes + "/dem_couette.toml -o " + out.string() +
+                       " --set 'system.group[0].N=300' --set 'system.box=[0.008,0.006,0.008]'"
+                       " --set system.initial.grow_steps=500 --set run.until=0.03 --set sample.exposure=0.03"
+                       " --set output.mp4=false --set output.particles=true --set render.color_by=vx"
+                       " --set 'render.size=[64,32]'");
+  ASSERT_EQ(r.status, 0) << r.output;
+  // Last frame of particles.xyz: columns species x y z radius id vx.
+  std::ifstream in(out / "particles.xyz");
+  std::string line, last_header;
+  std::vector<std::array<double, 2>> zvx;  // (z, vx) of the last frame
+  while (std::getline(in, line)) {
+    if (line.empty()) continue;
+    const std::size_t n = std::stoul(line);
+    std::getline(in, last_header);
+    zvx.clear();
+    for (std::size_t i = 0; i < n && std::getline(in, line); ++i) {
+      char species[16];
+      double x, y, z, rad, id, vx;
+      ASSERT_EQ(std::sscanf(line.c_str(), "%15s %lf %lf %lf %lf %lf %lf", species, &x, &y, &z, &rad, &id, &vx), 7)
+          << line;
+      zvx.push_back({z, vx});
+    }
+  }
+  ASSERT_TRUE(contains(last_header, "vx:R:1")) << last_header;
+  ASSERT_EQ(zvx.size(), 300u);
+  double top = 0, bottom = 0;
+  int ntop = 0, nbottom = 0;
+  for (const auto& [z, vx] : zvx) {
+    EXPECT_LT(vx, 1.2 * U);  // nothing outruns the wall by much
+    if (z > Lz - 2 * d) top += vx, ++ntop;
+    if (z < 2 * d) bottom += vx, ++nbottom;
+  }
+  ASSERT_GT(ntop, 10);
+  ASSERT_GT(nbottom, 10);
+  top /= ntop;
+  bottom /= nbottom;
+  EXPECT_GT(top, 0.15 * U) << "top layer mean vx " << top;
+  EXPECT_GT(top - bottom, 0.1 * U) << "top " << top << ", bottom " << bottom;
+  EXPECT_LT(std::abs(bottom), 0.1 * U) << "bottom layer mean vx " << bottom;
+}
+
+TEST(CliRun, DemWallVelocityNeedsAWallAndInPlaneComponents) {
+  const fs::path out = fresh_dir("run_couette_bad");
+  Result r = run("run " + scenes + "/dem_couette.toml -o " + out.string() + " --set 'boundary.periodic=[true,true,true]'");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_TRUE(contains(r.output, "boundary.top_velocity")) << r.output;
+  EXPECT_TRUE(contains(r.output, "periodic")) << r.output;
+  EXPECT_FALSE(fs::exists(out));
+  r = run("run " + scenes + "/dem_couette.toml -o " + out.string() + " --set 'boundary.top_velocity=[0.2,0.0,0.1]'");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_TRUE(contains(r.output, "boundary.top_velocity")) << r.output;
+  EXPECT_FALSE(fs::exists(out));
+  r = run("run " + scenes + "/dem_couette.toml -o " + out.string() + " --set boundary.top=\"open\"");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_TRUE(contains(r.output, "boundary.top_velocity")) << r.output;
   EXPECT_FALSE(fs::exists(out));
 }
 
