@@ -36,6 +36,17 @@ Simulation::~Simulation() = default;
 Simulation::Simulation(Simulation&&) noexcept = default;
 Simulation& Simulation::operator=(Simulation&&) noexcept = default;
 
+double Simulation::centre_distance_sq(std::size_t i, std::uint32_t q) const {
+  const std::uint32_t j = list_.partner[q];
+  const double* sh = box_.shift[list_.shift[q]];
+  double d2 = 0.0;
+  for (int a = 0; a < 3; ++a) {
+    const double d = p_.x[3 * j + a] + sh[a] - p_.x[3 * i + a];
+    d2 += d * d;
+  }
+  return d2;
+}
+
 void Simulation::setup() {
   configure();
   place_particles();
@@ -188,12 +199,7 @@ void Simulation::place_particles() {
   for (std::size_t i = 0; i < n; ++i)
     for (std::uint32_t q = list_.first[i]; q < list_.first[i + 1]; ++q) {
       const std::uint32_t j = list_.partner[q];
-      const double* sh = box_.shift[list_.shift[q]];
-      double d2 = 0.0;
-      for (int a = 0; a < 3; ++a) {
-        const double d = p_.x[3 * j + a] + sh[a] - p_.x[3 * i + a];
-        d2 += d * d;
-      }
+      const double d2 = centre_distance_sq(i, q);
       const double rs = p_.radius[i] + p_.radius[j];
       if (d2 < rs * rs)
         throw Error("dem: particles[" + std::to_string(i) + "] and particles[" + std::to_string(j) +
@@ -393,12 +399,7 @@ Stats Simulation::stats() const {
                                          cfg_.gravity.z() * p_.x[3 * i + 2]);
     for (std::uint32_t q = list_.first[i]; q < list_.first[i + 1]; ++q) {
       const std::uint32_t j = list_.partner[q];
-      const double* sh = box_.shift[list_.shift[q]];
-      double d2 = 0.0;
-      for (int a = 0; a < 3; ++a) {
-        const double d = p_.x[3 * j + a] + sh[a] - p_.x[3 * i + a];
-        d2 += d * d;
-      }
+      const double d2 = centre_distance_sq(i, q);
       const double rs = p_.radius[i] + p_.radius[j];
       if (d2 < rs * rs) ++s.contacts;
     }

@@ -130,6 +130,8 @@ private:
   void finish_integrate();
   void update_wall_near();
   void grow_radii();  // FINDRAD step
+  // Squared centre distance of table entry q of particle i (periodic shift applied).
+  double centre_distance_sq(std::size_t i, std::uint32_t q) const;
 
   Config cfg_;
   Particles p_;
