@@ -3,6 +3,7 @@
 // stats.csv, particles.xyz (optional) and run.json. A frame is drawn every exposure τ_E
 // (sample.exposure). Ctrl-C finishes cleanly: outputs hold what was computed and
 // run.json says "interrupted".
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -108,6 +109,8 @@ int run_scene(const RunArgs& a) {
   style.background = parse_colour(scene.get<std::string>("render.background"));
   style.colormap = render::Colormap::by_name(scene.get<std::string>("render.colormap"));
   const std::string colour_by = scene.get<std::string>("render.color_by");
+  std::optional<std::pair<double, double>> fixed_range;
+  if (auto r = scene.find<std::array<double, 2>>("render.range")) fixed_range = std::make_pair((*r)[0], (*r)[1]);
 
   std::vector<std::unique_ptr<render::FrameSink>> sinks;
   if (scene.get<bool>("output.png")) sinks.push_back(std::make_unique<render::PngSequenceSink>(folder.frames_dir()));
@@ -154,8 +157,9 @@ int run_scene(const RunArgs& a) {
   const auto wall_start = std::chrono::steady_clock::now();
   auto emit_frame = [&] {
     runner->snapshot(colour_by, snapshot);
-    // One colour range for the whole video, fixed at the first frame, so frames compare.
-    if (frame_index == 0 && !snapshot.attribute.empty()) style.range = render::finite_range(snapshot.attribute);
+    // One colour range for the whole video (render.range, or the first frame's), so frames compare.
+    if (frame_index == 0 && !snapshot.attribute.empty())
+      style.range = fixed_range ? *fixed_range : render::finite_range(snapshot.attribute);
     snapshot.caption = caption(scene, snapshot);
     output->consume(renderer.render(snapshot, style, layout), frame_index++, snapshot.time);
     if (particles) {
@@ -216,6 +220,7 @@ int run_scene(const RunArgs& a) {
                        {runner->work_unit() + "_overall", runner->work() / wall, runner->work_unit() + "/s"},
                        {"frames", double(frame_index) / wall, "frames/s"}};
   record.figures = runner->figures();
+  record.state_digest = runner->state_digest();
   write_run_record(record, folder.file("run.json"));
   std::printf("%s: %lld frames, t = %.6g, engine %.3g %s/s, %.1f s wall → %s\n",
               status == RunStatus::Complete ? "complete" : "interrupted", static_cast<long long>(frame_index),

@@ -6,11 +6,13 @@
 #include <cstdio>
 #include <filesystem>
 #include <optional>
+#include <span>
 #include <string>
 
 #include "engine/core/atomic_file.hpp"
 #include "engine/core/error.hpp"
 #include "engine/core/particle_reader.hpp"
+#include "engine/core/state_digest.hpp"
 #include "engine/dem/field_sampler.hpp"
 #include "engine/dem/simulation.hpp"
 #include "engine/dem/vdw_cohesion.hpp"
@@ -82,6 +84,9 @@ dem::Config dem_config(const Scene& sc) {
   c.gravity = {g[0], g[1], g[2]};
   if (auto dt = sc.find<double>("system.dt")) c.dt = *dt;
   c.steps_per_collision = int(sc.get<std::int64_t>("system.steps_per_collision"));
+  c.neighbor = sc.get<std::string>("system.neighbor_search") == "all_pairs" ? dem::NeighborMethod::AllPairs
+                                                                            : dem::NeighborMethod::ChainCells;
+  if (const double skin = sc.get<double>("system.skin"); skin > 0) c.skin = skin;
 
   const bool walton = sc.get<std::string>("system.contact.model") == "walton";
   c.model.normal = walton ? dem::NormalKind::Walton : dem::NormalKind::Hooke;
@@ -337,6 +342,16 @@ public:
   std::string work_unit() const override { return "particle-steps"; }
   std::vector<std::pair<std::string, double>> figures() const override {
     return {{"steps", double(sim_.steps())}, {"particles", double(sim_.size())}, {"dt", sim_.dt()}};
+  }
+  std::string state_digest() const override {
+    // Positions, velocities and spins in particle order, through the public accessors so
+    // the digest does not depend on the engine's internal layout.
+    core::StateDigest d;
+    d.add(sim_.time());
+    for (std::size_t i = 0; i < sim_.size(); ++i)
+      for (const Vec3& q : {sim_.position(i), sim_.velocity(i), sim_.angular_velocity(i)})
+        d.add(std::span<const double>(q.data(), 3));
+    return d.hex();
   }
 
 private:

@@ -42,6 +42,9 @@ public:
   virtual std::string work_unit() const = 0;
   // Totals for run.json.
   virtual std::vector<std::pair<std::string, double>> figures() const = 0;
+  // Fingerprint of the exact state (core::StateDigest, hex) for run.json: equal digests
+  // mean bit-identical runs. Empty when the engine has none.
+  virtual std::string state_digest() const { return {}; }
 
   // Engine-specific files in the run folder (DEM: pair.csv). open_outputs() is called once
   // before the first step; finish_outputs() renames them into place when the run ends

@@ -83,6 +83,7 @@ std::string run_record_json(const RunRecord& r) {
   w.key("figures").begin_object();
   for (const auto& [k, v] : r.figures) w.key(k).value(v);
   w.end_object();
+  if (!r.state_digest.empty()) w.key("state_digest").value(r.state_digest);
   w.end_object();
   return w.str() + "\n";
 }

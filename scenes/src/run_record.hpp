@@ -40,6 +40,7 @@ struct RunRecord {
   std::int64_t frames = 0;
   std::vector<Throughput> throughput;
   std::vector<std::pair<std::string, double>> figures;  // other totals (events, collisions, …)
+  std::string state_digest;  // EngineRunner::state_digest() at the end of the run
 };
 
 // Fills version, engine, seed, title, scene, overrides, requested backend, target and the

@@ -57,6 +57,9 @@ struct KeySpec {
   bool element_integer = false;  // NumberArray of integers
   std::vector<std::string> element_names;  // e.g. {"Lx","Ly"} for messages and docs
   std::string note;  // extra sentence appended to range errors and docs
+  // A file path relative to the scene file: the effective scene.toml of a run folder
+  // writes it resolved, so `grainflow run DIR/scene.toml` finds the same file.
+  bool is_path = false;
 
   // Fluent refinements, so registration reads like a table.
   KeySpec& at_least(double v) { min = v; min_exclusive = false; return *this; }
@@ -67,6 +70,7 @@ struct KeySpec {
   KeySpec& optional() { presence = Presence::Optional; default_value = {}; return *this; }
   KeySpec& length(std::size_t lo, std::size_t hi) { min_length = lo; max_length = hi; return *this; }
   KeySpec& with_note(std::string n) { note = std::move(n); return *this; }
+  KeySpec& path() { is_path = true; return *this; }
 
   // "0 < value ≤ 1", "" when unbounded.
   std::string range_text() const;

@@ -1,11 +1,13 @@
 // Schema of the sections every scene has whatever the engine: [run], [sample], [render],
 // [output] (SPEC.md §3, §3b). Engine-specific keys live in scene_schema_ed/dem.cpp.
+#include <array>
 #include <cstdint>
 #include <string>
 
 #include "scenes/src/scene.hpp"
 #include "scenes/src/engines.hpp"
 #include "scenes/src/scene_schema.hpp"
+#include "scenes/src/toml_text.hpp"
 
 namespace grainflow::scenes {
 
@@ -68,6 +70,10 @@ void add_common_schema(Schema& s) {
                   "colour map of scalar fields and of particles coloured by an attribute");
   render.add_enum("color_by", {"uniform", "speed", "vx", "vy", "vz", "spin", "group", "height"}, "speed",
                   "particle attribute mapped to colour in the particles panel");
+  render.add_float_array("range", {0.0, 1.0}, {"lo", "hi"},
+                         "colour range of render.color_by (same unit as the attribute); when absent it is "
+                         "taken from the first frame and kept for the whole run")
+      .optional();
   render.add_enum("backend", {"auto", "egl", "osmesa"}, "auto",
                   "off-screen GL: EGL (surfaceless/device), OSMesa, or auto = EGL then OSMesa");
   render.add_int("msaa", 4, "multisample anti-aliasing samples per pixel (0 = off)").at_least(0).at_most(16);
@@ -80,6 +86,9 @@ void add_common_schema(Schema& s) {
                                   std::to_string(layout[0]) + ", " + std::to_string(layout[1]) +
                                   "]; allowed: at most cols × rows = " + std::to_string(layout[0] * layout[1]) +
                                   " panels");
+    if (auto r = sc.find<std::array<double, 2>>("render.range"); r && !((*r)[0] < (*r)[1]))
+      c.fail("render.range", "render.range = [" + toml_float((*r)[0]) + ", " + toml_float((*r)[1]) +
+                                 "] is empty; allowed: [lo, hi] with lo < hi");
     const int msaa = sc.get<int>("render.msaa");
     if (msaa != 0 && (msaa & (msaa - 1)) != 0)
       c.fail("render.msaa", "render.msaa = " + std::to_string(msaa) + " is not allowed; allowed: 0, 1, 2, 4, 8, 16");

@@ -30,6 +30,12 @@ void add_dem_schema(Schema& s) {
       .at_least(5)
       .at_most(10000);
 
+  sys.add_enum("neighbor_search", {"chain_cells", "all_pairs"}, "chain_cells",
+               "how the Verlet table is built: chain cells (§3.2–3.4) or the N² reference search (validation; "
+               "both give bit-identical trajectories)");
+  sys.add_float("skin", 0.0, "Verlet search distance beyond contact (0 = 0.2 × the largest diameter)", "m")
+      .at_least(0.0);
+
   auto& contact = s.section("system.contact", "contact model between particles and with walls (§2.4)");
   contact.add_enum("model", {"walton", "hooke"}, "walton",
                    "walton: partially latching spring + incrementally slipping friction; hooke: linear spring-dashpot");
@@ -61,7 +67,8 @@ void add_dem_schema(Schema& s) {
   init.add_string("file", "",
                   "particle file (XYZ or LAMMPS dump) for kind = \"file\", path relative to the scene file: its first "
                   "frame gives positions, radii (0 or no radius column = the group's radius) and velocities; type t "
-                  "is group t − 1 and each group's N must equal its type's count");
+                  "is group t − 1 and each group's N must equal its type's count")
+      .path();
   init.add_int("grow_steps", 1000, "steps of radius growth from small to final radius (random placement)")
       .at_least(0);
 

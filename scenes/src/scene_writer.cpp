@@ -1,6 +1,8 @@
 // Scene::to_toml: the effective scene as a TOML file in schema order, every key with its
 // value (defaults included) and its doc as a comment, so DIR/scene.toml both reproduces the
 // run (`grainflow run DIR/scene.toml`) and explains it.
+#include <filesystem>
+
 #include "scenes/src/scene.hpp"
 #include "scenes/src/scene_impl.hpp"
 #include "scenes/src/scene_schema.hpp"
@@ -21,11 +23,22 @@ std::string one_line(std::string s) {
   return s;
 }
 
-void write_keys(const TableSpec& spec, const toml::table& t, std::string& out) {
+// A relative path key is resolved against the scene file's folder (how the runners read
+// it), so the effective scene works from the run folder too.
+std::string value_text(const KeySpec& k, const toml::node& n, const std::filesystem::path& source) {
+  const auto* s = n.as_string();
+  if (!k.is_path || !s || s->get().empty() || source.empty()) return node_text(n);
+  const std::filesystem::path p(s->get());
+  if (p.is_absolute()) return node_text(n);
+  const auto resolved = std::filesystem::absolute(source.parent_path() / p).lexically_normal();
+  return node_text(toml::value<std::string>(resolved.string()));
+}
+
+void write_keys(const TableSpec& spec, const toml::table& t, const std::filesystem::path& source, std::string& out) {
   for (const auto& k : spec.keys()) {
     const toml::node* n = t.get(k.name);
     if (!n) continue;  // optional key not given
-    out += k.name + " = " + node_text(*n);
+    out += k.name + " = " + value_text(k, *n, source);
     out += "  # " + one_line(k.doc);
     if (!k.unit.empty()) out += " [" + one_line(k.unit) + "]";
     out += "\n";
@@ -46,11 +59,11 @@ std::string Scene::to_toml() const {
     if (spec.kind() == TableKind::Array) {
       for (const auto& elem : *n->as_array()) {
         out += "\n[[" + spec.path() + "]]  # " + one_line(spec.doc()) + "\n";
-        write_keys(spec, *elem.as_table(), out);
+        write_keys(spec, *elem.as_table(), im.source, out);
       }
     } else {
       out += "\n[" + spec.path() + "]  # " + one_line(spec.doc()) + "\n";
-      write_keys(spec, *n->as_table(), out);
+      write_keys(spec, *n->as_table(), im.source, out);
     }
   }
   return out;
