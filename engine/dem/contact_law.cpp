@@ -1,6 +1,7 @@
 #include "engine/dem/contact_law.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <vector>
 
@@ -88,14 +89,21 @@ public:
     // Phase 1: range test for every pair of the chunk (short, predictable loop); pairs in
     // range are listed in ascending q, i.e. per owner i by ascending j. Phase 2 evaluates
     // only those, so the heavy contact code is not interleaved with the cheap rejections.
-    thread_local std::vector<std::uint32_t> in_range, seg;
-    in_range.clear();
-    seg.assign(i1 - i0 + 1, 0);
+    thread_local std::vector<std::uint32_t> in_range_buf, owner_buf;
+    const std::uint32_t q0 = first[i0], q1 = first[i1];
+    if (in_range_buf.size() < q1 - q0) {
+      in_range_buf.resize(q1 - q0);
+      owner_buf.resize(q1 - q0);
+    }
+    std::uint32_t* __restrict in_range = in_range_buf.data();
+    std::uint32_t* __restrict owner = owner_buf.data();
+    std::uint32_t nin = 0;
     for (std::size_t i = i0; i < i1; ++i) {
       const double xi = x[3 * i], yi = x[3 * i + 1], zi = x[3 * i + 2], ri = rad[i] + range;
-      const std::uint32_t qe = first[i + 1];
-      for (std::uint32_t q = first[i]; q < qe; ++q) {
-        const std::uint32_t j = partner[q];
+      // size_t indices: 3·j then folds into the addressing (no 32-bit wrap to honour).
+      const std::size_t qe = first[i + 1];
+      for (std::size_t q = first[i]; q < qe; ++q) {
+        const std::size_t j = partner[q];
         double dx = x[3 * j] - xi, dy = x[3 * j + 1] - yi, dz = x[3 * j + 2] - zi;
         if constexpr (kPeriodic) {
           const double* sh = shifts[shift[q]];
@@ -105,12 +113,14 @@ public:
         }
         const double rsq = dx * dx + dy * dy + dz * dz;
         const double reach = ri + rad[j];
-        if (rsq < reach * reach) {
-          in_range.push_back(q);
-          continue;
-        }
+        // Branch-free listing: whether a listed pair touches is close to a coin toss.
+        const bool in = rsq < reach * reach;
+        in_range[nin] = static_cast<std::uint32_t>(q);
+        owner[nin] = static_cast<std::uint32_t>(i);
+        nin += in;
         const std::uint8_t fl = flags[q];
-        if (fl == 0) [[likely]] continue;
+        // Out of range with a flag set: a contact (or cohesion) just ended — rare.
+        if (in || fl == 0) [[likely]] continue;
         if (update && (fl & NeighborList::kHistory)) {
           double* h = kH > 0 ? hist + std::size_t(q) * kH : nullptr;
           for (int c = 0; c < kH; ++c) h[c] = 0.0;
@@ -119,62 +129,71 @@ public:
           flags[q] = fl & static_cast<std::uint8_t>(~NeighborList::kActive);
         }
       }
-      seg[i - i0 + 1] = static_cast<std::uint32_t>(in_range.size());
     }
-    // Phase 2: contacts (and cohesion within range).
-    for (std::size_t i = i0; i < i1; ++i) {
+    // Phase 2: contacts (and cohesion within range). Partners inside the chunk receive
+    // their share at once (this chunk is the only writer of its particles); the others
+    // through the pair slots, gathered by the caller after all chunks are done.
+    std::fill(fsum + 3 * i0, fsum + 3 * i1, 0.0);
+    std::fill(csum + 3 * i0, csum + 3 * i1, 0.0);
+    double scratch[12] = {};
+    // Each particle's sums run in a fixed order: shares from owners earlier in the chunk
+    // (ascending owner), then its own pairs (ascending j).
+    for (std::uint32_t e = 0; e < nin; ++e) {
+      const std::size_t q = in_range[e];
+      const std::size_t i = owner[e];
       const double xi = x[3 * i], yi = x[3 * i + 1], zi = x[3 * i + 2], ri = rad[i];
-      double f0 = 0, f1 = 0, f2 = 0, c0 = 0, c1 = 0, c2 = 0;
-      for (std::uint32_t e = seg[i - i0]; e < seg[i - i0 + 1]; ++e) {
-        const std::uint32_t q = in_range[e];
-        const std::uint32_t j = partner[q];
-        double dx = x[3 * j] - xi, dy = x[3 * j + 1] - yi, dz = x[3 * j + 2] - zi;
-        if constexpr (kPeriodic) {
-          const double* sh = shifts[shift[q]];
-          dx += sh[0];
-          dy += sh[1];
-          dz += sh[2];
-        }
-        const double rsq = dx * dx + dy * dy + dz * dz;
-        const double rsum = ri + rad[j];
-        double* h = kH > 0 ? hist + std::size_t(q) * kH : nullptr;
-        ContactKinematics k;
-        const double r = std::sqrt(rsq), rinv = 1.0 / r;
-        k.n[0] = dx * rinv;
-        k.n[1] = dy * rinv;
-        k.n[2] = dz * rinv;
-        k.delta = rsum - r;
-        const double vr[3] = {v[3 * i] - v[3 * j], v[3 * i + 1] - v[3 * j + 1], v[3 * i + 2] - v[3 * j + 2]};
-        k.vn = vr[0] * k.n[0] + vr[1] * k.n[1] + vr[2] * k.n[2];
-        const double rj = rad[j];
-        const double W[3] = {ri * w[3 * i] + rj * w[3 * j], ri * w[3 * i + 1] + rj * w[3 * j + 1],
-                             ri * w[3 * i + 2] + rj * w[3 * j + 2]};
-        k.vt[0] = vr[0] - k.vn * k.n[0] + (W[1] * k.n[2] - W[2] * k.n[1]);
-        k.vt[1] = vr[1] - k.vn * k.n[1] + (W[2] * k.n[0] - W[0] * k.n[2]);
-        k.vt[2] = vr[2] - k.vn * k.n[2] + (W[0] * k.n[1] - W[1] * k.n[0]);
-        // Reduced mass and radius cost a division each: only for sub-models that read them.
-        k.m_eff = kNeedsMass ? m[i] * m[j] / (m[i] + m[j]) : 0.0;
-        k.r_eff = C::kNeedsRadius ? ri * rj / rsum : 0.0;
-        k.dt = fp.dt;
-        k.wall = false;
-        ContactForce out;
-        const bool on = eval(params_[type_pair(grp[i], grp[j])], k, h, update, out);
-        std::uint8_t fl = flags[q];
-        if (on) {
-          double* pf = pforce + std::size_t(q) * 6;
-          pf[0] = out.f[0]; pf[1] = out.f[1]; pf[2] = out.f[2];
-          pf[3] = out.c[0]; pf[4] = out.c[1]; pf[5] = out.c[2];
-          f0 += out.f[0]; f1 += out.f[1]; f2 += out.f[2];
-          c0 += out.c[0]; c1 += out.c[1]; c2 += out.c[2];
-          fl |= NeighborList::kActive;
-          if (update && k.delta > 0.0) fl |= NeighborList::kHistory;
-        } else {
-          fl = update ? 0 : fl & static_cast<std::uint8_t>(~NeighborList::kActive);
-        }
-        flags[q] = fl;
+      const std::size_t j = partner[q];
+      double dx = x[3 * j] - xi, dy = x[3 * j + 1] - yi, dz = x[3 * j + 2] - zi;
+      if constexpr (kPeriodic) {
+        const double* sh = shifts[shift[q]];
+        dx += sh[0];
+        dy += sh[1];
+        dz += sh[2];
       }
-      fsum[3 * i] = f0; fsum[3 * i + 1] = f1; fsum[3 * i + 2] = f2;
-      csum[3 * i] = c0; csum[3 * i + 1] = c1; csum[3 * i + 2] = c2;
+      const double rsq = dx * dx + dy * dy + dz * dz;
+      const double rsum = ri + rad[j];
+      double* h = kH > 0 ? hist + q * kH : nullptr;
+      ContactKinematics k;
+      const double r = std::sqrt(rsq), rinv = 1.0 / r;
+      k.n[0] = dx * rinv;
+      k.n[1] = dy * rinv;
+      k.n[2] = dz * rinv;
+      k.delta = rsum - r;
+      const double vr[3] = {v[3 * i] - v[3 * j], v[3 * i + 1] - v[3 * j + 1], v[3 * i + 2] - v[3 * j + 2]};
+      k.vn = vr[0] * k.n[0] + vr[1] * k.n[1] + vr[2] * k.n[2];
+      const double rj = rad[j];
+      const double W[3] = {ri * w[3 * i] + rj * w[3 * j], ri * w[3 * i + 1] + rj * w[3 * j + 1],
+                           ri * w[3 * i + 2] + rj * w[3 * j + 2]};
+      k.vt[0] = vr[0] - k.vn * k.n[0] + (W[1] * k.n[2] - W[2] * k.n[1]);
+      k.vt[1] = vr[1] - k.vn * k.n[1] + (W[2] * k.n[0] - W[0] * k.n[2]);
+      k.vt[2] = vr[2] - k.vn * k.n[2] + (W[0] * k.n[1] - W[1] * k.n[0]);
+      // Reduced mass and radius cost a division each: only for sub-models that read them.
+      k.m_eff = kNeedsMass ? m[i] * m[j] / (m[i] + m[j]) : 0.0;
+      k.r_eff = C::kNeedsRadius ? ri * rj / rsum : 0.0;
+      k.dt = fp.dt;
+      k.wall = false;
+      ContactForce out;
+      const bool on = eval(params_[type_pair(grp[i], grp[j])], k, h, update, out);
+      std::uint8_t fl = flags[q];
+      if (on) {
+        fsum[3 * i] += out.f[0]; fsum[3 * i + 1] += out.f[1]; fsum[3 * i + 2] += out.f[2];
+        csum[3 * i] += out.c[0]; csum[3 * i + 1] += out.c[1]; csum[3 * i + 2] += out.c[2];
+        // Partner in the chunk: scatter now, else store the pair slot; the unused
+        // target is a scratch buffer, so no (poorly predicted) branch is needed.
+        const bool local = j < i1;
+        double* tf = local ? fsum + 3 * j : scratch;
+        double* tc = local ? csum + 3 * j : scratch + 3;
+        double* pf = local ? scratch + 6 : pforce + q * 6;
+        tf[0] -= out.f[0]; tf[1] -= out.f[1]; tf[2] -= out.f[2];
+        tc[0] += out.c[0]; tc[1] += out.c[1]; tc[2] += out.c[2];
+        pf[0] = out.f[0]; pf[1] = out.f[1]; pf[2] = out.f[2];
+        pf[3] = out.c[0]; pf[4] = out.c[1]; pf[5] = out.c[2];
+        fl |= NeighborList::kActive;
+        if (update && k.delta > 0.0) fl |= NeighborList::kHistory;
+      } else {
+        fl = update ? 0 : fl & static_cast<std::uint8_t>(~NeighborList::kActive);
+      }
+      flags[q] = fl;
     }
   }
 
@@ -188,8 +207,8 @@ public:
       const std::uint8_t mask = near[i];
       if (mask == 0) [[likely]] continue;  // no wall within reach until the next rebuild
       const double ri = rad[i];
-      for (int wl = 0; wl < 6; ++wl) {
-        if (!(mask & (1u << wl))) continue;
+      for (unsigned bits = mask; bits != 0; bits &= bits - 1) {  // the flagged walls, ascending
+        const int wl = std::countr_zero(bits);
         const int a = wl / 2, side = wl % 2;
         const double dist = side == 0 ? x[3 * i + a] - box.lo[a] : box.hi[a] - x[3 * i + a];
         if (dist >= ri + range) {

@@ -35,9 +35,11 @@ public:
   virtual int history_size() const = 0;
   // Largest reach of the cohesion sub-model beyond contact [m] (0 without cohesion).
   virtual double cohesion_range() const = 0;
-  // Pair forces of the pairs owned by particles [i0, i1) into list->pair_force; also
-  // writes each owner's sums over its own pairs (ascending j): force into p->f and
-  // Σ n × F_t into p->t (the caller adds the partners' side and multiplies by R_i).
+  // Pair forces of the pairs owned by the particles of one force chunk [i0, i1): sets p->f
+  // and p->t (Σ n × F_t) of the chunk's particles, scattering each pair to both members
+  // when j lies in the chunk (particle by particle, ascending i, own pairs by ascending j);
+  // pairs whose j lies beyond i1 also go to list->pair_force for the caller to gather
+  // (list->rfirst/rpair) and then multiply the torque sums by R_i.
   virtual void pair_pass(const ForcePass& fp, std::size_t i0, std::size_t i1) const = 0;
   // Wall forces of particles [i0, i1), added to p->f / p->t and to wall_sum[w][3].
   virtual void wall_pass(const ForcePass& fp, std::size_t i0, std::size_t i1, double wall_sum[6][3]) const = 0;

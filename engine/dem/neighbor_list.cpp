@@ -42,6 +42,7 @@ struct CellGrid {
   std::vector<double> cx;             // 3 per entry of order: positions
   std::vector<double> cr;             // radius per entry of order
   std::vector<std::int32_t> cell_of;
+  std::vector<std::uint32_t> fill;    // counting-sort cursor per cell
 
   int coord(const Box& box, int a, double x) const {
     const int c = static_cast<int>(std::floor((x - box.lo[a]) * inv[a]));
@@ -70,9 +71,9 @@ void fill_cells(CellGrid& g, const Particles& p, const Box& box, double cell_min
   g.order.resize(p.n);
   g.cx.resize(3 * p.n);
   g.cr.resize(p.n);
-  std::vector<std::uint32_t> fill(g.start.begin(), g.start.end() - 1);
+  g.fill.assign(g.start.begin(), g.start.end() - 1);
   for (std::size_t i = 0; i < p.n; ++i) {
-    const std::uint32_t k = fill[g.cell_of[i]]++;
+    const std::uint32_t k = g.fill[g.cell_of[i]]++;
     g.order[k] = static_cast<std::uint32_t>(i);
     g.cx[3 * k] = p.x[3 * i];
     g.cx[3 * k + 1] = p.x[3 * i + 1];
@@ -90,10 +91,30 @@ inline bool within(const Particles& p, const Box& box, std::size_t i, std::size_
   return dx * dx + dy * dy + dz * dz < cut * cut;
 }
 
-void candidates_cells(const CellGrid& g, const Particles& p, const Box& box, double extra,
-                      std::size_t i, std::vector<Candidate>& out) {
+// Candidates come from up to 27 cells in cell order; the table wants them by ascending j
+// (as the N² search yields them). The lists are short (a dozen entries): insertion sort.
+void sort_candidates(Candidate* c, std::size_t n) {
+  for (std::size_t a = 1; a < n; ++a) {
+    const Candidate v = c[a];
+    std::size_t b = a;
+    for (; b > 0 && (c[b - 1].j > v.j || (c[b - 1].j == v.j && c[b - 1].shift > v.shift)); --b) c[b] = c[b - 1];
+    c[b] = v;
+  }
+}
+
+// Writes the neighbours j > i of particle i to out[0, count) and returns count; `out`
+// only grows (no per-particle clearing).
+std::size_t candidates_cells(const CellGrid& g, const Particles& p, const Box& box, double extra,
+                             std::size_t i, std::vector<Candidate>& out) {
   const int c = g.cell_of[i];
   const int ci[3] = {c % g.nc[0], (c / g.nc[0]) % g.nc[1], c / (g.nc[0] * g.nc[1])};
+  struct Range {
+    std::uint32_t k0, k1;
+    int s;
+  };
+  Range cells[27];
+  int ncells = 0;
+  std::size_t total = 0;
   for (int oz = -1; oz <= 1; ++oz)
     for (int oy = -1; oy <= 1; ++oy)
       for (int ox = -1; ox <= 1; ++ox) {
@@ -116,23 +137,32 @@ void candidates_cells(const CellGrid& g, const Particles& p, const Box& box, dou
           }
         }
         if (skip) continue;
-        const int s = sc[0] + 3 * sc[1] + 9 * sc[2];
         const std::size_t cell = cc[0] + g.nc[0] * (cc[1] + static_cast<std::size_t>(g.nc[1]) * cc[2]);
-        const double* sh = box.shift[s];
-        for (std::uint32_t k = g.start[cell]; k < g.start[cell + 1]; ++k) {
-          const std::uint32_t j = g.order[k];
-          if (j <= i) continue;
-          // The same arithmetic as within() (the N² reference): identical tables.
-          const double dx = g.cx[3 * k] + sh[0] - p.x[3 * i];
-          const double dy = g.cx[3 * k + 1] + sh[1] - p.x[3 * i + 1];
-          const double dz = g.cx[3 * k + 2] + sh[2] - p.x[3 * i + 2];
-          const double cut = p.radius[i] + g.cr[k] + extra;
-          if (dx * dx + dy * dy + dz * dz < cut * cut) out.push_back({j, static_cast<std::uint8_t>(s)});
-        }
+        cells[ncells++] = {g.start[cell], g.start[cell + 1], sc[0] + 3 * sc[1] + 9 * sc[2]};
+        total += g.start[cell + 1] - g.start[cell];
       }
-  std::sort(out.begin(), out.end(), [](const Candidate& a, const Candidate& b) {
-    return a.j != b.j ? a.j < b.j : a.shift < b.shift;
-  });
+  if (out.size() < total + 1) out.resize(2 * total + 1);
+  Candidate* o = out.data();
+  std::size_t n = 0;
+  const double xi = p.x[3 * i], yi = p.x[3 * i + 1], zi = p.x[3 * i + 2], ri = p.radius[i];
+  for (int cn = 0; cn < ncells; ++cn) {
+    const double* sh = box.shift[cells[cn].s];
+    const auto s = static_cast<std::uint8_t>(cells[cn].s);
+    for (std::uint32_t k = cells[cn].k0; k < cells[cn].k1; ++k) {
+      const std::uint32_t j = g.order[k];
+      if (j <= i) continue;  // a cell lists ascending indices: predictable
+      // The same arithmetic as within() (the N² reference): identical tables.
+      const double dx = g.cx[3 * k] + sh[0] - xi;
+      const double dy = g.cx[3 * k + 1] + sh[1] - yi;
+      const double dz = g.cx[3 * k + 2] + sh[2] - zi;
+      const double cut = ri + g.cr[k] + extra;
+      // Branch-free append: whether a cell mate is a neighbour is hard to predict.
+      o[n] = {j, s};
+      n += dx * dx + dy * dy + dz * dz < cut * cut;
+    }
+  }
+  sort_candidates(out.data(), n);
+  return n;
 }
 
 void candidates_all_pairs(const Particles& p, const Box& box, double extra, std::size_t i,
@@ -167,13 +197,25 @@ void build_neighbor_list(NeighborList& list, Particles& p, const Box& box, doubl
                   std::to_string(box.len[a]) + " m; it must exceed twice the neighbour search distance (" +
                   std::to_string(2.0 * cut_max) + " m = 2 × (largest diameter + skin + cohesion range))");
 
-  CellGrid grid;
+  // Buffers kept from build to build (per calling thread): a rebuild then touches no
+  // fresh pages, which otherwise cost as much as the search itself at large N.
+  struct Workspace {
+    CellGrid grid;
+    std::vector<std::vector<Candidate>> chunk_pairs;
+    std::vector<std::uint32_t> count, old_first, old_partner;
+    std::vector<std::uint8_t> old_flags;
+    std::vector<double> old_hist;
+  };
+  thread_local Workspace ws;
+  CellGrid& grid = ws.grid;
   if (method == NeighborMethod::ChainCells) fill_cells(grid, p, box, cut_max);
 
   const std::size_t n = p.n;
   const std::size_t nchunks = (n + kChunk - 1) / kChunk;
-  std::vector<std::vector<Candidate>> chunk_pairs(nchunks);
-  std::vector<std::uint32_t> count(n + 1, 0);
+  auto& chunk_pairs = ws.chunk_pairs;
+  if (chunk_pairs.size() < nchunks) chunk_pairs.resize(nchunks);
+  auto& count = ws.count;
+  count.assign(n + 1, 0);
 
 #pragma omp parallel if (nchunks > 1)
   {
@@ -185,17 +227,27 @@ void build_neighbor_list(NeighborList& list, Particles& p, const Box& box, doubl
       out.clear();
       const std::size_t i1 = std::min(n, (c + 1) * kChunk);
       for (std::size_t i = c * kChunk; i < i1; ++i) {
-        buf.clear();
-        if (method == NeighborMethod::ChainCells) candidates_cells(grid, p, box, extra, i, buf);
-        else candidates_all_pairs(p, box, extra, i, buf);
-        count[i] = static_cast<std::uint32_t>(buf.size());
-        out.insert(out.end(), buf.begin(), buf.end());
+        std::size_t m;
+        if (method == NeighborMethod::ChainCells) {
+          m = candidates_cells(grid, p, box, extra, i, buf);
+        } else {
+          buf.clear();
+          candidates_all_pairs(p, box, extra, i, buf);
+          m = buf.size();
+        }
+        count[i] = static_cast<std::uint32_t>(m);
+        out.insert(out.end(), buf.begin(), buf.begin() + static_cast<std::ptrdiff_t>(m));
       }
     }
   }
 
   // New table; carry the history of pairs present in both tables (both sorted by j).
-  NeighborList old;
+  struct {
+    std::vector<std::uint32_t>& first;
+    std::vector<std::uint32_t>& partner;
+    std::vector<std::uint8_t>& flags;
+    std::vector<double>& hist;
+  } old{ws.old_first, ws.old_partner, ws.old_flags, ws.old_hist};
   std::swap(old.first, list.first);
   std::swap(old.partner, list.partner);
   std::swap(old.flags, list.flags);
@@ -210,14 +262,14 @@ void build_neighbor_list(NeighborList& list, Particles& p, const Box& box, doubl
   list.flags.assign(P, 0);
   list.hist.assign(P * H, 0.0);
   list.pair_force.assign(P * 6, 0.0);
-  {
-    std::size_t k = 0;
-    for (const auto& ch : chunk_pairs)
-      for (const Candidate& cd : ch) {
-        list.partner[k] = cd.j;
-        list.shift[k] = cd.shift;
-        ++k;
-      }
+#pragma omp parallel for schedule(static) if (nchunks > 1)
+  for (std::size_t c = 0; c < nchunks; ++c) {
+    std::size_t k = list.first[c * kChunk];
+    for (const Candidate& cd : chunk_pairs[c]) {
+      list.partner[k] = cd.j;
+      list.shift[k] = cd.shift;
+      ++k;
+    }
   }
   if (!old.first.empty() && old.first.size() == n + 1) {
 #pragma omp parallel for schedule(static) if (n > 4096)
@@ -239,15 +291,24 @@ void build_neighbor_list(NeighborList& list, Particles& p, const Box& box, doubl
   ++list.builds;
 }
 
+std::size_t force_chunk_size(std::size_t n) { return std::max<std::size_t>(256, (n + 15) / 16); }
+
 void build_reverse_index(NeighborList& list, std::size_t n) {
-  const std::size_t P = list.partner.size();
+  const std::size_t K = force_chunk_size(n);
   list.rfirst.assign(n + 1, 0);
-  for (std::size_t q = 0; q < P; ++q) ++list.rfirst[list.partner[q] + 1];
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::size_t end = std::min(n, (i / K + 1) * K);
+    for (std::uint32_t q = list.first[i]; q < list.first[i + 1]; ++q)
+      if (list.partner[q] >= end) ++list.rfirst[list.partner[q] + 1];
+  }
   for (std::size_t i = 0; i < n; ++i) list.rfirst[i + 1] += list.rfirst[i];
-  list.rpair.resize(P);
+  list.rpair.resize(list.rfirst[n]);
   std::vector<std::uint32_t> fill(list.rfirst.begin(), list.rfirst.end() - 1);
-  for (std::size_t i = 0; i < n; ++i)
-    for (std::uint32_t q = list.first[i]; q < list.first[i + 1]; ++q) list.rpair[fill[list.partner[q]]++] = q;
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::size_t end = std::min(n, (i / K + 1) * K);
+    for (std::uint32_t q = list.first[i]; q < list.first[i + 1]; ++q)
+      if (list.partner[q] >= end) list.rpair[fill[list.partner[q]]++] = q;
+  }
 }
 
 double max_displacement_sq(const NeighborList& list, const Particles& p) {

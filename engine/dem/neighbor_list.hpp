@@ -25,9 +25,10 @@ struct NeighborList {
   std::vector<std::uint8_t> shift;     // image shift code of j (Box::shift)
   std::vector<std::uint8_t> flags;
   std::vector<double> hist;            // history_size per pair
-  std::vector<double> pair_force;      // 6 per pair: force on i (3), n × F_t (3)
-  std::vector<std::uint32_t> rfirst;   // n + 1: pairs where the particle is j ...
-  std::vector<std::uint32_t> rpair;    // ... as pair indices, ascending i
+  std::vector<double> pair_force;      // 6 per pair: force on i (3), n × F_t (3); written
+                                       // only for pairs whose j lies in a later force chunk
+  std::vector<std::uint32_t> rfirst;   // n + 1: pairs where the particle is j and i lies in
+  std::vector<std::uint32_t> rpair;    // an earlier force chunk, as pair indices, ascending i
   std::vector<double> xref;            // positions at the last build (displacement check)
   std::uint64_t builds = 0;
 
@@ -39,7 +40,14 @@ struct NeighborList {
 void build_neighbor_list(NeighborList& list, Particles& p, const Box& box, double skin,
                          double extra_range, NeighborMethod method);
 
-// Pairs in which each particle is the second member (rfirst/rpair), ascending first member.
+// Fixed work unit of the force pass (particles [c·K, (c+1)·K) form chunk c). It depends on
+// N only, never on the thread count, so the summation order (and the trajectory) is the
+// same for any number of threads; about 16 chunks keep two threads balanced while most
+// pairs stay inside one chunk, where the force is scattered directly.
+std::size_t force_chunk_size(std::size_t n);
+
+// Pairs in which each particle is the second member and the first member lies in an
+// earlier force chunk (rfirst/rpair), ascending first member.
 void build_reverse_index(NeighborList& list, std::size_t n);
 
 // Largest squared displacement since the last build (periodic axes already consistent,

@@ -14,8 +14,6 @@ namespace grainflow::dem {
 
 namespace {
 
-constexpr std::size_t kChunk = 512;  // fixed work unit: results independent of thread count
-
 std::string num(double v) {
   char b[64];
   std::snprintf(b, sizeof b, "%.9g", v);
@@ -26,6 +24,23 @@ std::string vec(const Vec3& v) { return "(" + num(v.x()) + ", " + num(v.y()) + "
 
 double group_mass(const GroupConfig& g) {
   return 4.0 / 3.0 * std::numbers::pi * g.radius * g.radius * g.radius * g.density;
+}
+
+// Leap-frog kick and drift of particle i (Eq. 2.19); returns its squared displacement
+// since the last neighbour build.
+inline double kick_drift_one(Particles& P, const NeighborList& L, std::size_t i, double kick, double dt) {
+  const double ki = kick * P.inv_mass[i], kr = kick * P.inv_inertia[i];
+  const double* f = &P.f[3 * i];
+  const double* t = &P.t[3 * i];
+  double* v = &P.v[3 * i];
+  double* x = &P.x[3 * i];
+  double* w = &P.w[3 * i];
+  v[0] += ki * f[0]; v[1] += ki * f[1]; v[2] += ki * f[2];
+  x[0] += dt * v[0]; x[1] += dt * v[1]; x[2] += dt * v[2];
+  w[0] += kr * t[0]; w[1] += kr * t[1]; w[2] += kr * t[2];
+  const double* xr = &L.xref[3 * i];
+  const double d0 = x[0] - xr[0], d1 = x[1] - xr[1], d2 = x[2] - xr[2];
+  return d0 * d0 + d1 * d1 + d2 * d2;
 }
 
 }  // namespace
@@ -236,6 +251,7 @@ void Simulation::update_wall_near() {
 
 void Simulation::compute_forces(bool update, bool then_integrate) {
   const std::size_t n = p_.n;
+  const std::size_t kChunk = force_chunk_size(n);  // fixed work unit: independent of thread count
   const std::size_t nchunks = (n + kChunk - 1) / kChunk;
   chunk_wall_.assign(nchunks * 18, 0.0);
   chunk_disp_.assign(nchunks, 0.0);
@@ -260,22 +276,23 @@ void Simulation::compute_forces(bool update, bool then_integrate) {
 #pragma omp for schedule(static)
     for (std::size_t c = 0; c < nchunks; ++c) law.pair_pass(fp, c * kChunk, std::min(n, (c + 1) * kChunk));
 
-#pragma omp for schedule(static)
+#pragma omp for schedule(static) nowait  // the end of the region is the barrier
     for (std::size_t c = 0; c < nchunks; ++c) {
       const std::size_t i0 = c * kChunk, i1 = std::min(n, (c + 1) * kChunk);
-      // Each particle sums its pairs in a fixed order (own pairs by ascending j in the pair
-      // pass, then pairs where it is j by ascending i): independent of the thread count.
+      // Each particle sums its pairs in a fixed order (the pair pass: shares from owners in
+      // its chunk, own pairs by ascending j; then owners in earlier chunks by ascending i):
+      // independent of the thread count.
       for (std::size_t i = i0; i < i1; ++i) {
         double f0 = 0, f1 = 0, f2 = 0, t0 = 0, t1 = 0, t2 = 0;
-        for (std::uint32_t k = L.rfirst[i]; k < L.rfirst[i + 1]; ++k) {
-          const std::uint32_t q = L.rpair[k];
+        for (std::size_t k = L.rfirst[i]; k < L.rfirst[i + 1]; ++k) {
+          const std::size_t q = L.rpair[k];
           // Branch-free: inactive slots hold finite stale values, multiplied by zero.
           const double a = static_cast<double>(L.flags[q] & NeighborList::kActive);
-          const double* pf = &L.pair_force[std::size_t(q) * 6];
+          const double* pf = &L.pair_force[q * 6];
           f0 -= a * pf[0]; f1 -= a * pf[1]; f2 -= a * pf[2];
           t0 += a * pf[3]; t1 += a * pf[4]; t2 += a * pf[5];
         }
-        // Own pairs were summed by the pair pass (ascending j); torque R_i Σ (n × F_t).
+        // Torque R_i Σ (n × F_t) over all the particle's contacts.
         const double ri = P.radius[i];
         double* f = &P.f[3 * i];
         double* t = &P.t[3 * i];
@@ -284,15 +301,25 @@ void Simulation::compute_forces(bool update, bool then_integrate) {
       }
       double ws[6][3] = {};
       law.wall_pass(fp, i0, i1, ws);
-      std::copy(&ws[0][0], &ws[0][0] + 18, &chunk_wall_[c * 18]);
-      for (std::size_t i = i0; i < i1; ++i) {
-        const double m = P.mass[i];
-        double* f = &P.f[3 * i];
-        f[0] += m * g[0]; f[1] += m * g[1]; f[2] += m * g[2];
+      // Gravity, fused with the next step's kick and drift while the chunk is in cache
+      // (the same operations, in the same order, as integrate()).
+      if (then_integrate) {
+        double dmax = 0.0;
+        for (std::size_t i = i0; i < i1; ++i) {
+          const double m = P.mass[i];
+          double* f = &P.f[3 * i];
+          f[0] += m * g[0]; f[1] += m * g[1]; f[2] += m * g[2];
+          dmax = std::max(dmax, kick_drift_one(P, L, i, kick, dt));
+        }
+        chunk_disp_[c] = dmax;
+      } else {
+        for (std::size_t i = i0; i < i1; ++i) {
+          const double m = P.mass[i];
+          double* f = &P.f[3 * i];
+          f[0] += m * g[0]; f[1] += m * g[1]; f[2] += m * g[2];
+        }
       }
-      // Fused with the next step's kick and drift while the chunk is in cache (the same
-      // operations, in the same order, as integrate()).
-      if (then_integrate) chunk_disp_[c] = kick_drift(P, L, i0, i1, kick, dt);
+      std::copy(&ws[0][0], &ws[0][0] + 18, &chunk_wall_[c * 18]);
     }
   }
   if (then_integrate) finish_integrate();
@@ -305,20 +332,7 @@ void Simulation::compute_forces(bool update, bool then_integrate) {
 double Simulation::kick_drift(Particles& P, const NeighborList& L, std::size_t i0, std::size_t i1, double kick,
                               double dt) {
   double dmax = 0.0;
-  for (std::size_t i = i0; i < i1; ++i) {
-    const double ki = kick * P.inv_mass[i], kr = kick * P.inv_inertia[i];
-    const double* f = &P.f[3 * i];
-    const double* t = &P.t[3 * i];
-    double* v = &P.v[3 * i];
-    double* x = &P.x[3 * i];
-    double* w = &P.w[3 * i];
-    v[0] += ki * f[0]; v[1] += ki * f[1]; v[2] += ki * f[2];
-    x[0] += dt * v[0]; x[1] += dt * v[1]; x[2] += dt * v[2];
-    w[0] += kr * t[0]; w[1] += kr * t[1]; w[2] += kr * t[2];
-    const double* xr = &L.xref[3 * i];
-    const double d0 = x[0] - xr[0], d1 = x[1] - xr[1], d2 = x[2] - xr[2];
-    dmax = std::max(dmax, d0 * d0 + d1 * d1 + d2 * d2);
-  }
+  for (std::size_t i = i0; i < i1; ++i) dmax = std::max(dmax, kick_drift_one(P, L, i, kick, dt));
   return dmax;
 }
 
@@ -332,6 +346,7 @@ void Simulation::finish_integrate() {
 
 void Simulation::integrate() {
   const std::size_t n = p_.n;
+  const std::size_t kChunk = force_chunk_size(n);
   const std::size_t nchunks = (n + kChunk - 1) / kChunk;
   chunk_disp_.assign(nchunks, 0.0);
   // Leap-frog, Eq. 2.19: v_{n+1/2} = v_{n−1/2} + F_n/m Δt; r_{n+1} = r_n + v_{n+1/2} Δt.

@@ -3,16 +3,24 @@
 // d = 1 mm, 2500 kg/m³, dt 5e-6 s, skin 0.2 d, simple cubic lattice at 1.02 d in a closed
 // box 25 % taller than the lattice, gravity, v = 0.1 sin(c·id). Prints particle-steps/s
 // (warm-up 1000 steps, timed 3000 like the LAMMPS input), then the neighbour-rebuild time
-// against N with its fitted exponent. Threads: OMP_NUM_THREADS. On a machine shared with
-// other jobs set OMP_WAIT_POLICY=passive: spinning threads otherwise wait a scheduler
-// time slice at every barrier (two per step) and two threads run 20× slower than one.
+// against N with its fitted exponent. Threads: OMP_NUM_THREADS, or --threads 1,2 to run
+// each size at each thread count back to back (speed-up under the same machine load). On
+// a machine shared with other jobs set OMP_WAIT_POLICY=passive: spinning threads otherwise
+// wait a scheduler time slice at every barrier (two per step) and two threads run 20×
+// slower than one. --digest prints a hash of the final state (bitwise comparisons).
+#include <algorithm>
 #include <chrono>
 #include <ctime>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <string>
+#include <cstring>
 #include <vector>
+
+#ifdef _OPENMP
+#include <omp.h>
+#endif
 
 #include "engine/dem/simulation.hpp"
 
@@ -50,6 +58,18 @@ Config bench_config(int nx, int ny, int nz) {
   return c;
 }
 
+// FNV-1a over the bits of positions, velocities and angular velocities.
+std::uint64_t digest(const Particles& p) {
+  std::uint64_t h = 1469598103934665603ull;
+  for (const std::vector<double>* a : {&p.x, &p.v, &p.w})
+    for (double d : *a) {
+      std::uint64_t b;
+      std::memcpy(&b, &d, sizeof b);
+      for (int k = 0; k < 8; ++k) h = (h ^ ((b >> (8 * k)) & 0xff)) * 1099511628211ull;
+    }
+  return h;
+}
+
 double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
@@ -61,44 +81,71 @@ int main(int argc, char** argv) {
     int nx, ny, nz;
   };
   // Arguments: grids "NXxNYxNZ" (default 10x10x20 25x25x32 40x40x40), "--large" adds
-  // 50x50x80, "--no-fit" skips the rebuild-scaling fit.
+  // 50x50x80, "--no-fit" skips the rebuild-scaling fit, "--steps W,R" sets the warm-up
+  // and timed steps (default 1000,3000), "--threads 1,2" the thread counts, "--digest".
   std::vector<Grid> grids;
-  bool fit = true, large = false;
+  std::vector<int> threads;
+  bool fit = true, large = false, show_digest = false;
+  int nwarm = 1000, nrun = 3000;
   for (int k = 1; k < argc; ++k) {
     const std::string a = argv[k];
     Grid g{};
     if (a == "--large") large = true;
     else if (a == "--no-fit") fit = false;
-    else if (std::sscanf(a.c_str(), "%dx%dx%d", &g.nx, &g.ny, &g.nz) == 3) grids.push_back(g);
+    else if (a == "--digest") show_digest = true;
+    else if (a == "--steps" && k + 1 < argc && std::sscanf(argv[k + 1], "%d,%d", &nwarm, &nrun) == 2 && nwarm >= 0 && nrun > 0) ++k;
+    else if (a == "--threads" && k + 1 < argc) {
+      const std::string list = argv[++k];
+      for (std::size_t b = 0; b < list.size();) {
+        const std::size_t e = std::min(list.find(',', b), list.size());
+        threads.push_back(std::atoi(list.substr(b, e - b).c_str()));
+        if (threads.back() < 1) {
+          std::fprintf(stderr, "bench_dem: bad thread count in --threads %s\n", list.c_str());
+          return 2;
+        }
+        b = e + 1;
+      }
+    } else if (std::sscanf(a.c_str(), "%dx%dx%d", &g.nx, &g.ny, &g.nz) == 3) grids.push_back(g);
     else {
-      std::fprintf(stderr, "bench_dem: unknown argument %s (NXxNYxNZ, --large, --no-fit)\n", a.c_str());
+      std::fprintf(stderr, "bench_dem: unknown argument %s (NXxNYxNZ, --large, --no-fit, --steps W,R, --threads T1,T2, --digest)\n", a.c_str());
       return 2;
     }
   }
   if (grids.empty()) grids = {{10, 10, 20}, {25, 25, 32}, {40, 40, 40}};
   if (large) grids.push_back({50, 50, 80});
-  const int nwarm = 1000, nrun = 3000;
   const char* th = std::getenv("OMP_NUM_THREADS");
-  std::printf("# bench_dem: reference free-fall box, Hooke+history, OMP_NUM_THREADS=%s\n", th ? th : "(unset)");
+  std::printf("# bench_dem: reference free-fall box, Hooke+history, OMP_NUM_THREADS=%s, %d+%d steps\n", th ? th : "(unset)",
+              nwarm, nrun);
   // On a shared machine wall time includes waiting for a core: cpu_s is the process CPU
   // time of the loop (all threads), cpu% = cpu_s / loop_s as LAMMPS prints it.
-  std::printf("%8s %10s %14s %8s %18s %8s %8s %10s\n", "N", "loop_s", "pstep_per_s", "cpu%", "pstep_per_cpu_s",
-              "builds", "coord", "ke_J");
+  std::printf("%8s %4s %10s %14s %8s %18s %8s %8s %14s%s\n", "N", "thr", "loop_s", "pstep_per_s", "cpu%",
+              "pstep_per_cpu_s", "builds", "coord", "ke_J", show_digest ? "             digest" : "");
+  if (threads.empty()) threads.push_back(0);  // 0: as OMP_NUM_THREADS says
   std::vector<double> logn, logt;
   for (const Grid& g : grids) {
-    Simulation s(bench_config(g.nx, g.ny, g.nz));
-    s.step(nwarm);
-    const auto b0 = s.neighbors().builds;
-    const auto t0 = std::chrono::steady_clock::now();
-    const std::clock_t c0 = std::clock();
-    s.step(nrun);
-    const double dt = seconds_since(t0);
-    const double cpu = static_cast<double>(std::clock() - c0) / CLOCKS_PER_SEC;
-    const Stats st = s.stats();
-    const double n = static_cast<double>(s.size());
-    std::printf("%8zu %10.3f %14.4g %8.1f %18.4g %8llu %8.3f %10.4g\n", s.size(), dt, n * nrun / dt, 100.0 * cpu / dt,
-                n * nrun / cpu, static_cast<unsigned long long>(st.neighbor_builds - b0), st.coordination, st.kinetic);
-    std::fflush(stdout);
+    for (int nt : threads) {
+      int used = 1;
+#ifdef _OPENMP
+      if (nt > 0) omp_set_num_threads(nt);
+      used = omp_get_max_threads();
+#endif
+      Simulation s(bench_config(g.nx, g.ny, g.nz));
+      s.step(nwarm);
+      const auto b0 = s.neighbors().builds;
+      const auto t0 = std::chrono::steady_clock::now();
+      const std::clock_t c0 = std::clock();
+      s.step(nrun);
+      const double dt = seconds_since(t0);
+      const double cpu = static_cast<double>(std::clock() - c0) / CLOCKS_PER_SEC;
+      const Stats st = s.stats();
+      const double n = static_cast<double>(s.size());
+      std::printf("%8zu %4d %10.3f %14.4g %8.1f %18.4g %8llu %8.3f %14.8g", s.size(), used, dt, n * nrun / dt,
+                  100.0 * cpu / dt, n * nrun / cpu, static_cast<unsigned long long>(st.neighbor_builds - b0),
+                  st.coordination, st.kinetic);
+      if (show_digest) std::printf(" %016llx", static_cast<unsigned long long>(digest(s.particles())));
+      std::printf("\n");
+      std::fflush(stdout);
+    }
   }
   if (!fit) return 0;
   // Neighbour-table rebuild cost against N (chain cells): process CPU time, best of 7
