@@ -54,6 +54,8 @@ public:
     insert(e);
   }
   void moved(int, int, int) {}
+  // Entry e's disk left the system (its key is already kNever).
+  void removed(int e, int /*cell*/) { detach(e); }
   void commit() {}
 
   int top() {

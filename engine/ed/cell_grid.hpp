@@ -44,6 +44,8 @@ public:
   // a linked list. The capacity follows from Groemer's packing bound for centres at least
   // min_diameter apart in a cell (N ≤ 2A/(√3 d²) + P/(2d) + 1).
   void resize_particles(int n) { cell_.assign(n, -1); pos_.assign(n, -1); }
+  // More disk slots, keeping the present ones (disks entering an open stream, §3.2–3.3).
+  void grow_particles(int n) { cell_.resize(n, -1); pos_.resize(n, -1); }
   void insert(int i, int c) {
     std::int32_t* s = &slots_[static_cast<std::size_t>(c) * stride_];
     if (s[0] >= cap_) overflow(c);

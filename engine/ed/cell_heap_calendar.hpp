@@ -41,6 +41,8 @@ public:
     mark(from_cell);
     mark(to_cell);
   }
+  // Disk e left the system from `cell` (no longer in the cell map).
+  void removed(int /*e*/, int cell) { mark(cell); }
   void commit() {
     for (int n : dirty_) {
       dirty_flag_[n] = 0;

@@ -4,6 +4,7 @@
 #pragma once
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace grainflow::ed {
 
@@ -25,11 +26,11 @@ struct CollisionImpulse {
 
 // rx, ry: r = r1 − r2 at contact; cx, cy: c = c1 − c2 (Eq. 3.49); R = σ/2; w = ω_z.
 // Velocities after: c1' = c1 + j/m1, c2' = c2 − j/m2, ω1' = ω1 + dw1, ω2' = ω2 + dw2.
-inline CollisionImpulse collision_impulse(double rx, double ry, double cx, double cy, double R1,
-                                          double R2, double w1, double w2, double m1, double m2,
-                                          const CollisionParams& p) {
+// M: the reduced mass m1 m2 / (m1 + m2), given separately so that m2 = ∞ has a limit.
+inline CollisionImpulse collision_impulse_reduced(double rx, double ry, double cx, double cy, double R1,
+                                                  double R2, double w1, double w2, double m1, double m2,
+                                                  double M, const CollisionParams& p) {
   CollisionImpulse out;
-  const double M = m1 * m2 / (m1 + m2);  // reduced mass
   const double r2 = rx * rx + ry * ry;
   const double cr = cx * rx + cy * ry;
   // Eq. 3.54 with c_n from Eq. 3.55 (no square root needed for smooth disks).
@@ -60,6 +61,24 @@ inline CollisionImpulse collision_impulse(double rx, double ry, double cx, doubl
   const double nxj = nx * jty - ny * jtx;
   out.dw1 = -nxj / (q * m1 * R1);
   out.dw2 = -nxj / (q * m2 * R2);
+  return out;
+}
+
+inline CollisionImpulse collision_impulse(double rx, double ry, double cx, double cy, double R1,
+                                          double R2, double w1, double w2, double m1, double m2,
+                                          const CollisionParams& p) {
+  return collision_impulse_reduced(rx, ry, cx, cy, R1, R2, w1, w2, m1, m2, m1 * m2 / (m1 + m2), p);
+}
+
+// Disk 2 infinitely heavy (the outlet filter's frozen disks, seed 003 §3.3, Fig. 3.8): the
+// limit m2 → ∞ taken by hand (M = m1, no change of disk 2), so no ∞/∞ appears. Disk 1
+// reflects in disk 2's frame.
+inline CollisionImpulse collision_impulse_heavy(double rx, double ry, double cx, double cy, double R1,
+                                                double R2, double w1, double w2, double m1,
+                                                const CollisionParams& p) {
+  CollisionImpulse out = collision_impulse_reduced(rx, ry, cx, cy, R1, R2, w1, w2, m1,
+                                                   std::numeric_limits<double>::infinity(), m1, p);
+  out.dw2 = 0.0;
   return out;
 }
 

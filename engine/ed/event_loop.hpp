@@ -4,8 +4,10 @@
 // by the partner's event counter (DynamO style), so "affected" disks (§2.1) are re-predicted
 // lazily, only when their own outdated event comes up.
 #pragma once
+#include <algorithm>
 #include <cstdint>
 #include <functional>
+#include <vector>
 
 #include "engine/ed/system_state.hpp"
 
@@ -47,12 +49,16 @@ public:
     s_.partner_count.assign(n, 0);
     s_.kind.assign(n, EventKind::None);
     s_.cross_dir.assign(n, 0);
-    for (int i = 0; i < n; ++i) predict_full(i);
+    for (int i = 0; i < n; ++i)
+      if (s_.present(i)) predict_full(i);
+    s_.clear_changes();
+    s_.clear_touched();
     for (int a = 0; a < nt; ++a) s_.key[n + a] = std::max(s_.now(), s_.timers[a]->event_time(s_));
     cal_.reset(s_.key.data(), &s_.grid, n, nt);
   }
 
   void run_until(double t) override {
+    settle_outside_actions();
     for (;;) {
       const int e = cal_.top();
       if (e < 0 || s_.key[e] > t) break;
@@ -62,6 +68,7 @@ public:
   }
 
   std::uint64_t advance(std::uint64_t n) override {
+    settle_outside_actions();
     std::uint64_t k = 0;
     for (; k < n; ++k) {
       const int e = cal_.top();
@@ -93,6 +100,8 @@ private:
         ++s_.stats.stale;
         predict_full(e);
         cal_.update(e);
+      } else if (s_.frozen_count() > 0 && (s_.frozen(e) || s_.frozen(j))) {
+        collide_frozen(e, j);
       } else {
         collide(e, j);
       }
@@ -203,8 +212,11 @@ private:
     ++s_.stats.agent_events;
     s_.synchronise(i);
     s_.agents[a]->action(s_, i);
-    predict_full(i);
-    cal_.update(i);
+    settle_changes();
+    if (s_.present(i)) {  // the action may have removed it (outlet)
+      predict_full(i);
+      cal_.update(i);
+    }
     repredict_touched(i);
   }
 
@@ -212,7 +224,8 @@ private:
     ++s_.stats.timer_events;
     TimerAgent& ag = *s_.timers[a];
     ag.action(s_);
-    const int e = s_.size() + a;
+    settle_changes();
+    const int e = s_.size() + a;  // after settle_changes: the slots may have grown
     s_.key[e] = std::max(s_.now(), ag.event_time(s_));
     cal_.update(e);
     repredict_touched(-1);
@@ -220,11 +233,113 @@ private:
 
   void repredict_touched(int skip) {
     for (int j : s_.touched())
-      if (j != skip) {
+      if (j != skip && s_.present(j)) {
         predict_full(j);
         cal_.update(j);
       }
     s_.clear_touched();
+  }
+
+  // Disks added, removed, frozen or re-velocitied between runs (not by an agent's action).
+  void settle_outside_actions() {
+    if (s_.grown() || !s_.added().empty() || !s_.removed().empty() || !s_.touched().empty()) {
+      settle_changes();
+      repredict_touched(-1);
+      cal_.commit();
+    }
+  }
+
+  // Disks that entered or left during an action (open stream boundaries, seed 003 §3.2–3.3).
+  // Removed disks carry a bumped counter, so partners' events with them turn stale; added
+  // ones are predicted, and so is every disk of the 3×3 cells around them, whose events
+  // did not know the newcomer.
+  void settle_changes() {
+    if (s_.grown()) cal_.reset(s_.key.data(), &s_.grid, s_.size(), static_cast<int>(s_.timers.size()));
+    for (const SystemState::Removal& r : s_.removed()) cal_.removed(r.id, r.cell);
+    if (!s_.added().empty()) {
+      around_.clear();
+      const CellGrid& g = s_.grid;
+      for (int i : s_.added()) {
+        if (!s_.present(i)) continue;
+        const int c = g.cell(i);
+        for (int ky = -1; ky <= 1; ++ky) {
+          int cy = g.iy(c) + ky;
+          double sy = 0.0;
+          if (!wrap(cy, g.ny(), g.periodic_y(), g.ly(), sy)) continue;
+          for (int kx = -1; kx <= 1; ++kx) {
+            int cx = g.ix(c) + kx;
+            double sx = 0.0;
+            if (!wrap(cx, g.nx(), g.periodic_x(), g.lx(), sx)) continue;
+            const int cc = g.index(cx, cy);
+            around_.insert(around_.end(), g.members(cc), g.members(cc) + g.count(cc));
+          }
+        }
+      }
+      std::sort(around_.begin(), around_.end());
+      around_.erase(std::unique(around_.begin(), around_.end()), around_.end());
+      for (int j : around_) {
+        predict_full(j);
+        cal_.update(j);
+      }
+    }
+    s_.clear_changes();
+  }
+
+  // A disk meets a frozen (infinitely heavy) one: it reflects in the frozen disk's frame;
+  // the frozen disk keeps its velocity and stays outside the books (Fig. 3.8).
+  void collide_frozen(int i, int j) {
+    if (s_.frozen(i)) std::swap(i, j);  // i: the mobile disk (if any)
+    s_.synchronise(i);
+    s_.synchronise(j);
+    if (!s_.frozen(i)) {
+      Disk& a = s_.disk[i];
+      const Disk& b = s_.disk[j];
+      double sx, sy;
+      s_.grid.image_shift(s_.grid.cell(i), s_.grid.cell(j), sx, sy);
+      const double rx = a.x - (b.x + sx), ry = a.y - (b.y + sy);
+      const double m = s_.mass[i];
+      const CollisionImpulse J = collision_impulse_heavy(rx, ry, a.vx - b.vx, a.vy - b.vy, a.r, b.r, s_.omega[i],
+                                                         s_.omega[j], m, s_.rule);
+      const double k0 = 0.5 * m * (a.vx * a.vx + a.vy * a.vy);
+      a.vx += J.jx / m;
+      a.vy += J.jy / m;
+      const double k1 = 0.5 * m * (a.vx * a.vx + a.vy * a.vy);
+      double drot = 0.0;
+      if (J.dw1 != 0.0) {
+        const double w1 = s_.omega[i];
+        s_.omega[i] += J.dw1;
+        drot = 0.5 * s_.inertia(i) * (s_.omega[i] * s_.omega[i] - w1 * w1);
+      }
+      s_.add_kinetic(k1 - k0, drot, J.jx, J.jy);  // the frozen disk absorbs −J
+      s_.stats.virial += rx * J.jx + ry * J.jy;
+      ++s_.stats.collisions;
+      if (J.sliding) ++s_.stats.sliding;
+      ++s_.counter[i];
+      if (on_collision) on_collision(CollisionRecord{i, j, s_.now()});
+    } else {
+      // Two frozen disks only meet when agents froze them at different velocities: equal
+      // (infinite) masses, smooth, elastic; outside the books.
+      Disk& a = s_.disk[i];
+      Disk& b = s_.disk[j];
+      double sx, sy;
+      s_.grid.image_shift(s_.grid.cell(i), s_.grid.cell(j), sx, sy);
+      const double rx = a.x - (b.x + sx), ry = a.y - (b.y + sy);
+      const CollisionImpulse J = collision_impulse(rx, ry, a.vx - b.vx, a.vy - b.vy, a.r, b.r, 0.0, 0.0, 1.0, 1.0,
+                                                   CollisionParams{});
+      a.vx += J.jx;
+      a.vy += J.jy;
+      b.vx -= J.jx;
+      b.vy -= J.jy;
+      ++s_.stats.collisions;
+      ++s_.counter[i];
+      ++s_.counter[j];
+      if (on_collision) on_collision(CollisionRecord{i, j, s_.now()});
+    }
+    // j keeps its trajectory; its own event may have named i, so it is predicted again too.
+    predict_full(i);
+    cal_.update(i);
+    predict_full(j);
+    cal_.update(j);
   }
 
   // Steps a neighbour cell index across the grid edge; false when there is no such cell.
@@ -336,6 +451,7 @@ private:
 
   SystemState& s_;
   Calendar cal_;
+  std::vector<int> around_;  // scratch: disks around newcomers
 };
 
 }  // namespace grainflow::ed

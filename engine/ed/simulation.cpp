@@ -37,6 +37,7 @@ void check_config(const Config& c) {
   if (!(c.e >= 0.0 && c.e <= 1.0)) bad("e", c.e, "0 <= e <= 1");
   if (!(c.e_t >= -1.0 && c.e_t <= 1.0)) bad("e_t", c.e_t, "-1 <= e_t <= 1");
   if (!(c.mu >= 0.0)) bad("mu", c.mu, "mu >= 0 (infinity: no sliding)");
+  if (c.open_x && c.periodic_x) bad("open_x", 1, "open_x only with periodic_x = false");
   if (!(c.wall_restitution >= 0.0 && c.wall_restitution <= 1.0))
     bad("wall_restitution", c.wall_restitution, "0 <= wall_restitution <= 1");
 }
@@ -95,15 +96,18 @@ void Simulation::build(std::vector<DiskInit> disks) {
     s_.omega[i] = d.omega;
     s_.grid.insert(i, s_.grid.cell_of_point(d.r.x(), d.r.y()));
   }
+  s_.reset_slots();
   // Overlaps are an impossible configuration, not something to resolve silently.
   const double gap = min_gap();
   if (gap < -1e-9 * std::max(1.0, dmax))
     throw Error(fmt::format("ed: initial disks overlap (smallest gap {}); place them at least a "
                             "diameter apart", gap));
+  s_.set_diameter_range(n > 0 ? dmin : 1.0, std::min(s_.grid.width(), s_.grid.height()));
   s_.recompute_books();
-  if (!cfg_.periodic_x || !cfg_.periodic_y)
-    s_.agents.push_back(std::make_unique<ElasticWalls>(cfg_.lx, cfg_.ly, !cfg_.periodic_x,
-                                                       !cfg_.periodic_y, cfg_.wall_restitution));
+  const bool walls_x = !cfg_.periodic_x && !cfg_.open_x;
+  if (walls_x || !cfg_.periodic_y)
+    s_.agents.push_back(std::make_unique<ElasticWalls>(cfg_.lx, cfg_.ly, walls_x, !cfg_.periodic_y,
+                                                       cfg_.wall_restitution));
   if (cfg_.calendar == CalendarKind::cell_heap)
     loop_ = std::make_unique<EventLoop<CellHeapCalendar>>(s_);
   else
@@ -131,12 +135,14 @@ TimerAgent* Simulation::add_timer(std::unique_ptr<TimerAgent> timer) {
 
 void Simulation::compact(const std::vector<int>& kept) {
   const int n = static_cast<int>(kept.size());
+  std::vector<SlotState> states(n);
   for (int k = 0; k < n; ++k) {
     const int i = kept[k];
     s_.disk[k] = s_.disk[i];
     s_.mass[k] = s_.mass[i];
     s_.omega[k] = s_.omega[i];
     s_.counter[k] = s_.counter[i];
+    states[k] = s_.slot[i];
   }
   s_.disk.resize(n);
   s_.mass.resize(n);
@@ -150,6 +156,12 @@ void Simulation::compact(const std::vector<int>& kept) {
                      }()));
   s_.grid.resize_particles(n);
   for (int i = 0; i < n; ++i) s_.grid.insert(i, s_.grid.cell_of_point(s_.disk[i].x, s_.disk[i].y));
+  s_.reset_slots(std::move(states));
+  {
+    double dmin = kNever;
+    for (const Disk& x : s_.disk) dmin = std::min(dmin, 2.0 * x.r);
+    s_.set_diameter_range(n ? dmin : 1.0, std::min(s_.grid.width(), s_.grid.height()));
+  }
   s_.recompute_books();
   restart();
 }
@@ -180,12 +192,14 @@ void Simulation::run_until(double t) {
 std::uint64_t Simulation::advance(std::uint64_t events) { return loop_->advance(events); }
 
 void Simulation::synchronise() {
-  for (int i = 0; i < s_.size(); ++i) s_.synchronise(i);
+  for (int i = 0; i < s_.size(); ++i)
+    if (s_.present(i)) s_.synchronise(i);
 }
 
 double Simulation::kinetic_energy() const {
   double k = 0.0;
   for (int i = 0; i < s_.size(); ++i) {
+    if (s_.slot[i] != SlotState::present) continue;
     const Disk& d = s_.disk[i];
     k += 0.5 * s_.mass[i] * (d.vx * d.vx + d.vy * d.vy) + 0.5 * s_.inertia(i) * s_.omega[i] * s_.omega[i];
   }
@@ -194,13 +208,15 @@ double Simulation::kinetic_energy() const {
 
 Vec2 Simulation::momentum() const {
   Vec2 p{0.0, 0.0};
-  for (int i = 0; i < s_.size(); ++i) p += s_.mass[i] * Vec2{s_.disk[i].vx, s_.disk[i].vy};
+  for (int i = 0; i < s_.size(); ++i)
+    if (s_.slot[i] == SlotState::present) p += s_.mass[i] * Vec2{s_.disk[i].vx, s_.disk[i].vy};
   return p;
 }
 
 double Simulation::area_fraction() const {
   double a = 0.0;
-  for (const Disk& d : s_.disk) a += std::numbers::pi * d.r * d.r;
+  for (int i = 0; i < s_.size(); ++i)
+    if (s_.present(i)) a += std::numbers::pi * s_.disk[i].r * s_.disk[i].r;
   return a / s_.area();
 }
 
@@ -209,6 +225,7 @@ double Simulation::min_gap() const {
   const CellGrid& g = s_.grid;
   double gap = kNever;
   for (int i = 0; i < s_.size(); ++i) {
+    if (!s_.present(i)) continue;
     const Vec2 pi = s_.position_now(i);
     const int c = g.cell(i);
     for (int ky = -1; ky <= 1; ++ky)
@@ -235,7 +252,7 @@ std::size_t Simulation::memory_bytes() const {
   const std::size_t n = s_.disk.capacity();
   const std::size_t per = sizeof(Disk) + 8 /*mass*/ + 8 /*omega*/ + 4 /*counter*/ + 8 /*key*/ +
                           8 /*pair_time*/ + 8 /*cross_time*/ + 4 /*partner*/ + 4 /*partner_count*/ +
-                          1 /*kind*/ + 1 /*cross_dir*/;
+                          1 /*kind*/ + 1 /*cross_dir*/ + 1 /*slot*/;
   return n * per + s_.grid.memory_bytes() + loop_->calendar_bytes();
 }
 

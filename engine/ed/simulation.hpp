@@ -32,6 +32,9 @@ struct Config {
   Vec2 stream{0.0, 0.0};            // stream velocity U added to Maxwell velocities
   std::uint64_t seed = 1;
   bool periodic_x = true, periodic_y = true;  // a non-periodic axis gets elastic walls
+  // x is open (not periodic, no walls): stream boundary agents (dispenser piston + filter,
+  // or inlet/outlet, seed 003 §3.2–3.3) close it. Needs periodic_x = false.
+  bool open_x = false;
   double wall_restitution = 1.0;
   double e = 1.0, e_t = 1.0, mu = 0.0;        // §3.4 collision rule (mu = 0: smooth disks)
   // Cell edge ≥ this, and ≥ the largest diameter. Seed 003 §2.2 found 1.2σ optimal at
@@ -58,7 +61,9 @@ public:
   double time() const { return s_.now(); }
   double next_event_time() { return loop_->next_event_time(); }
 
-  int size() const { return s_.size(); }
+  int size() const { return s_.size(); }     // disk slots (some may be absent, §3.2–3.3)
+  int count() const { return s_.count(); }   // disks present
+  bool present(int i) const { return s_.present(i); }
   const std::vector<Disk>& disks() const { return s_.disk; }  // each at its own time t
   const std::vector<double>& omega() const { return s_.omega; }
   const SystemState& state() const { return s_; }
@@ -77,13 +82,14 @@ public:
   // Places a fixed circular obstacle, removing the disks it overlaps. Throws
   // grainflow::Error when it does not lie inside the box with a cell's margin.
   CircularObstacle& add_obstacle(const ObstacleConfig& obstacle);
-  // Removes the disks for which keep(i) is false (indices renumbered, order kept).
+  // Removes the disks for which keep(i) is false (indices renumbered, order kept; absent
+  // slots are dropped too).
   template <class Keep>
   void remove_disks_unless(Keep keep) {
     synchronise();
     std::vector<int> kept;
     for (int i = 0; i < s_.size(); ++i)
-      if (keep(i)) kept.push_back(i);
+      if (s_.present(i) && keep(i)) kept.push_back(i);
     compact(kept);
   }
 
@@ -91,10 +97,10 @@ public:
   const Stats& stats() const { return s_.stats; }
   Observables observables() const { return s_.observables(); }
   void reset_measurements() { s_.reset_measurements(); }
-  // Exact totals from the disks (not the incremental books).
+  // Exact totals from the disks (not the incremental books); frozen disks are left out.
   double kinetic_energy() const;   // Σ m v²/2 + Σ I ω²/2
   Vec2 momentum() const;
-  double area_fraction() const;
+  double area_fraction() const;    // of the disks present (frozen included)
   // Minimum over all pairs of (distance − σ_ij) at the current time, O(N²)/cells: for tests.
   double min_gap() const;
 

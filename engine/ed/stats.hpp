@@ -13,6 +13,8 @@ struct Stats {
   std::uint64_t stale = 0;           // events discarded because the partner changed
   std::uint64_t agent_events = 0;    // ParticleAgent actions (walls, obstacles, ...)
   std::uint64_t timer_events = 0;    // TimerAgent actions (sampler, thermostat, ...)
+  std::uint64_t inserted = 0;        // disks that entered (open stream inlet, §3.2–3.3)
+  std::uint64_t removed = 0;         // disks that left (outlet)
 
   // Measurement window: accumulators since reset at time t0.
   double t0 = 0.0;

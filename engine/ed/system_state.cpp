@@ -1,6 +1,11 @@
 #include "engine/ed/system_state.hpp"
 
 #include <algorithm>
+#include <cmath>
+
+#include <fmt/format.h>
+
+#include "engine/core/error.hpp"
 
 namespace grainflow::ed {
 
@@ -9,6 +14,14 @@ void SystemState::set_velocity(int i, double vx, double vy) { set_velocity(i, vx
 void SystemState::set_velocity(int i, double vx, double vy, double w) {
   synchronise(i);
   Disk& d = disk[i];
+  if (slot[i] == SlotState::frozen) {  // a moving wall: outside the books
+    d.vx = vx;
+    d.vy = vy;
+    omega[i] = w;
+    ++counter[i];
+    touched_.push_back(i);
+    return;
+  }
   const double m = mass[i];
   kin_ += 0.5 * m * (vx * vx + vy * vy - d.vx * d.vx - d.vy * d.vy);
   rot_ += 0.5 * inertia(i) * (w * w - omega[i] * omega[i]);
@@ -24,6 +37,7 @@ void SystemState::set_velocity(int i, double vx, double vy, double w) {
 void SystemState::recompute_books() {
   kin_ = rot_ = px_ = py_ = mtot_ = 0.0;
   for (int i = 0; i < size(); ++i) {
+    if (slot[i] != SlotState::present) continue;
     const Disk& d = disk[i];
     kin_ += 0.5 * mass[i] * (d.vx * d.vx + d.vy * d.vy);
     rot_ += 0.5 * inertia(i) * omega[i] * omega[i];
@@ -37,7 +51,7 @@ Observables SystemState::observables() const {
   Observables o;
   o.duration = now_ - stats.t0;
   o.collisions = stats.collisions - stats.collisions0;
-  const double n = size();
+  const double n = mobile_count();
   if (o.duration > 0.0 && n > 0) {
     o.kT = stats.kT_integral / o.duration;
     // 2D collision virial (Allen & Tildesley 1987, §3.7; Alder & Wainwright 1960):
@@ -48,6 +62,109 @@ Observables SystemState::observables() const {
     o.mean_free_time = o.collisions ? 1.0 / o.collision_rate : kNever;
   }
   return o;
+}
+
+void SystemState::reset_slots(std::vector<SlotState> states) {
+  if (states.empty()) states.assign(size(), SlotState::present);
+  slot = std::move(states);
+  n_present_ = size();
+  n_frozen_ = static_cast<int>(std::count(slot.begin(), slot.end(), SlotState::frozen));
+  free_.clear();
+  clear_changes();
+}
+
+void SystemState::add_books(int i, double sign) {
+  const Disk& d = disk[i];
+  const double m = mass[i];
+  kin_ += sign * 0.5 * m * (d.vx * d.vx + d.vy * d.vy);
+  rot_ += sign * 0.5 * inertia(i) * omega[i] * omega[i];
+  px_ += sign * m * d.vx;
+  py_ += sign * m * d.vy;
+  mtot_ += sign * m;
+}
+
+void SystemState::grow() {
+  const int n = size();
+  const int n1 = n + std::max(64, n / 4);
+  disk.resize(n1, Disk{0.0, 0.0, 0.0, 0.0, 0.0, 0.0});
+  mass.resize(n1, 0.0);
+  omega.resize(n1, 0.0);
+  counter.resize(n1, 0u);
+  slot.resize(n1, SlotState::absent);
+  grid.grow_particles(n1);
+  // Prediction arrays exist once the loop has started; timer keys follow the disk slots.
+  if (static_cast<int>(pair_time.size()) == n) {
+    key.insert(key.begin() + n, static_cast<std::size_t>(n1 - n), kNever);
+    pair_time.resize(n1, kNever);
+    cross_time.resize(n1, kNever);
+    partner.resize(n1, -1);
+    partner_count.resize(n1, 0u);
+    kind.resize(n1, EventKind::None);
+    cross_dir.resize(n1, 0);
+    grown_ = true;
+  }
+  for (int i = n1 - 1; i >= n; --i) free_.push_back(i);  // lowest id first
+}
+
+int SystemState::add_disk(const DiskInit& in) {
+  const double x = in.r.x(), y = in.r.y();
+  const bool inside = grid.periodic_x() ? (x >= 0.0 && x < grid.lx()) : (x >= 0.0 && x <= grid.lx());
+  const bool inside_y = grid.periodic_y() ? (y >= 0.0 && y < grid.ly()) : (y >= 0.0 && y <= grid.ly());
+  if (!inside || !inside_y || !std::isfinite(x) || !std::isfinite(y))
+    throw Error(fmt::format("ed: a disk added at ({}, {}) lies outside the {} x {} box", x, y, grid.lx(), grid.ly()));
+  const double dia = 2.0 * in.radius;
+  if (!(dia >= dmin_ * (1.0 - 1e-12) && dia <= dmax_ * (1.0 + 1e-12)) || !(in.mass > 0.0))
+    throw Error(fmt::format("ed: a disk added with diameter {} and mass {}; the cell map allows diameters in "
+                            "[{}, {}] and the mass must be positive", dia, in.mass, dmin_, dmax_));
+  if (free_.empty()) grow();
+  const int i = free_.back();
+  free_.pop_back();
+  disk[i] = Disk{x, y, in.v.x(), in.v.y(), now_, in.radius};
+  mass[i] = in.mass;
+  omega[i] = in.omega;
+  ++counter[i];  // predictions that named this slot's former disk are stale
+  slot[i] = SlotState::present;
+  ++n_present_;
+  grid.insert(i, grid.cell_of_point(x, y));
+  add_books(i, 1.0);
+  ++stats.inserted;
+  added_.push_back(i);
+  return i;
+}
+
+void SystemState::remove_disk(int i) {
+  if (slot[i] == SlotState::absent) return;
+  if (slot[i] == SlotState::frozen) --n_frozen_;
+  else add_books(i, -1.0);
+  synchronise(i);
+  const int c = grid.cell(i);
+  grid.remove(i);
+  slot[i] = SlotState::absent;
+  --n_present_;
+  ++counter[i];  // partners' predictions with it become stale: no collision with the ghost
+  if (static_cast<int>(pair_time.size()) == size()) {
+    key[i] = pair_time[i] = cross_time[i] = kNever;
+    kind[i] = EventKind::None;
+  }
+  free_.push_back(i);
+  ++stats.removed;
+  removed_.push_back({i, c});
+}
+
+void SystemState::freeze(int i, double vx, double vy) {
+  if (slot[i] == SlotState::absent) return;
+  synchronise(i);
+  if (slot[i] == SlotState::present) {
+    add_books(i, -1.0);
+    slot[i] = SlotState::frozen;
+    ++n_frozen_;
+  }
+  Disk& d = disk[i];
+  d.vx = vx;
+  d.vy = vy;
+  omega[i] = 0.0;  // a translating wall: no spin enters a rough collision
+  ++counter[i];
+  touched_.push_back(i);
 }
 
 void SystemState::index_agents() {

@@ -10,10 +10,14 @@
 #include "engine/ed/cell_grid.hpp"
 #include "engine/ed/collision_rule.hpp"
 #include "engine/ed/event_source.hpp"
+#include "engine/ed/initial_state.hpp"
 #include "engine/ed/pair_collision_time.hpp"
 #include "engine/ed/stats.hpp"
 
 namespace grainflow::ed {
+
+// What a slot of the disk arrays holds (open stream boundaries, seed 003 §3.2–3.3).
+enum class SlotState : std::uint8_t { absent = 0, present = 1, frozen = 2 };
 
 // Hot per-disk data, one cache line: position and velocity valid at the disk's own time t.
 struct Disk {
@@ -28,8 +32,32 @@ public:
   // ---- disks -------------------------------------------------------------------------
   std::vector<Disk> disk;
   std::vector<double> mass, omega;     // ω_z (rough disks)
-  std::vector<std::uint32_t> counter;  // bumped whenever the disk's velocity changes
+  std::vector<std::uint32_t> counter;  // bumped whenever the disk's velocity changes (or it comes/goes)
+  std::vector<SlotState> slot;
   int size() const { return static_cast<int>(disk.size()); }
+
+  // Disks enter and leave (open stream boundaries, seed 003 §3.2–3.3). Ids are slots:
+  // size() is the number of slots, count() the disks present; a removed id may be reused.
+  // Callable from inside ParticleAgent::action and TimerAgent::action.
+  int add_disk(const DiskInit& d);   // placed at now(); returns its id. The loop predicts it after the
+                                     // action and re-predicts every disk in the 3×3 cells around it.
+  void remove_disk(int i);           // leaves now: out of the cell map and the calendar
+  bool present(int i) const { return slot[i] != SlotState::absent; }
+  int count() const { return n_present_; }  // disks present (frozen ones included)
+  // Infinitely heavy disk moving at v from now on (the outlet filter, Fig. 3.8): other disks
+  // bounce off it as off a moving wall; it is left out of kT, energy and momentum books.
+  void freeze(int i, double vx, double vy);
+  bool frozen(int i) const { return slot[i] == SlotState::frozen; }
+  int frozen_count() const { return n_frozen_; }
+  int mobile_count() const { return n_present_ - n_frozen_; }  // the disks in the books
+  // Asks the loop to re-predict disk i after the current action without changing it (an
+  // agent that moved, e.g. the dispenser piston jumping back).
+  void repredict(int i) { touched_.push_back(i); }
+  // Diameters a disk added later may have: the cell map was sized for [min, max].
+  void set_diameter_range(double dmin, double dmax) { dmin_ = dmin; dmax_ = dmax; }
+  // Fills the slot bookkeeping for size() disks (called by the builder): all present, or
+  // the given states (one per slot, none absent).
+  void reset_slots(std::vector<SlotState> states = {});
 
   // ---- next event per disk (plus one key per timer agent after the disks) ------------
   std::vector<double> key;            // calendar key: min(pair_time, cross_time) or timer time
@@ -85,7 +113,7 @@ public:
   // Granular temperature from peculiar velocities (seed 003 Eq. 4.9 with i = 2):
   // kT = Σ m |v − V|² / (2N), V the mass-averaged velocity.
   double kT() const {
-    const int n = size();
+    const int n = mobile_count();
     return n ? (kin_ - 0.5 * (px_ * px_ + py_ * py_) / mtot_) / n : 0.0;
   }
   void add_kinetic(double dk, double drot, double dpx, double dpy) {
@@ -113,10 +141,30 @@ public:
   // Rebuilds the per-cell agent lists (after agents are added or the grid changes).
   void index_agents();
 
+  // ---- for the event loop: what the last action did to the set of disks --------------
+  struct Removal {
+    int id, cell;
+  };
+  const std::vector<int>& added() const { return added_; }
+  const std::vector<Removal>& removed() const { return removed_; }
+  bool grown() const { return grown_; }  // slot arrays grew: the calendar must be rebuilt
+  void clear_changes() {
+    added_.clear();
+    removed_.clear();
+    grown_ = false;
+  }
+
 private:
+  void grow();
+  void add_books(int i, double sign);
+
   double now_ = 0.0;
   double kin_ = 0.0, rot_ = 0.0, px_ = 0.0, py_ = 0.0, mtot_ = 0.0;
-  std::vector<int> touched_;
+  int n_present_ = 0, n_frozen_ = 0;
+  double dmin_ = 0.0, dmax_ = kNever;
+  std::vector<int> touched_, free_, added_;
+  std::vector<Removal> removed_;
+  bool grown_ = false;
 };
 
 }  // namespace grainflow::ed

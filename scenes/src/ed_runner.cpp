@@ -6,7 +6,9 @@
 #include <string>
 
 #include "engine/core/error.hpp"
+#include "engine/ed/dense_stream.hpp"
 #include "engine/ed/field_sampler.hpp"
+#include "engine/ed/low_density_stream.hpp"
 #include "engine/ed/simulation.hpp"
 #include "scenes/src/engine_runner.hpp"
 #include "scenes/src/field_snapshot.hpp"
@@ -44,10 +46,15 @@ ed::Config ed_config(const Scene& sc) {
   if (sc.get<double>("system.tau_tc") > 0)
     throw Error("system.tau_tc = " + std::to_string(sc.get<double>("system.tau_tc")) +
                 ": the TC model is not implemented in the ED engine yet; allowed: 0");
-  if (sc.get<std::string>("boundary.stream.kind") != "periodic")
-    throw Error("boundary.stream.kind = \"" + sc.get<std::string>("boundary.stream.kind") +
-                "\": open inlet/outlet boundaries are not implemented in the ED engine yet; allowed: \"periodic\"");
+  // Open stream boundaries close the x axis themselves (seed 003 §3.2–3.3): no x walls.
+  c.open_x = sc.get<std::string>("boundary.stream.kind") != "periodic";
   return c;
+}
+
+// The stream's area fraction as the scene gives it (one of area_fraction, n, N).
+double stream_area_fraction(const Scene& sc, const ed::Config& c) {
+  if (auto eta = sc.find<double>("system.area_fraction")) return *eta;
+  return double(c.n) * std::numbers::pi / 4.0 / (c.lx * c.ly);
 }
 
 // Fields are time-averaged over each exposure τ_E (seed 003 §4.1) by the engine's sampler
@@ -80,6 +87,7 @@ public:
       oc.seed = sim_.config().seed * 0x9e3779b97f4a7c15ULL + 1;
       obstacle_ = &sim_.add_obstacle(oc);
     }
+    add_stream_boundaries(sc);
   }
 
   double time() const override { return sim_.time(); }
@@ -95,15 +103,20 @@ public:
     s.hi = {cfg.lx, cfg.ly, 0};
     s.time = sim_.time();
     const auto& disks = sim_.disks();
-    s.pos_radius.resize(disks.size() * 4);
+    // Slots of disks that left an open stream are empty: only present disks are drawn.
+    const std::size_t count = std::size_t(sim_.count());
+    s.pos_radius.resize(count * 4);
     s.attribute.clear();
     s.attribute_categorical = false;
     s.attribute_name = colour_by;
     const bool coloured = colour_by != "uniform";
-    if (coloured) s.attribute.resize(disks.size());
+    if (coloured) s.attribute.resize(count);
+    std::size_t k = 0;
     for (std::size_t i = 0; i < disks.size(); ++i) {
+      if (!sim_.present(int(i))) continue;
       const auto& d = disks[i];
-      float* p = &s.pos_radius[4 * i];
+      const std::size_t out = k++;
+      float* p = &s.pos_radius[4 * out];
       p[0] = float(d.x);
       p[1] = float(d.y);
       p[2] = 0.0f;
@@ -117,7 +130,7 @@ public:
       else if (colour_by == "height") v = d.y;
       else throw Error("render.color_by = \"" + colour_by +
                        "\" is not available for ED disks; allowed: uniform, speed, vx, vy, spin, height");
-      s.attribute[i] = float(v);
+      s.attribute[out] = float(v);
     }
     s.obstacles.clear();
     if (obstacle_) s.obstacles.push_back({obstacle_->config().centre, obstacle_->config().radius});
@@ -132,7 +145,7 @@ public:
 
   std::vector<std::string> stats_columns() const override {
     return {"collisions", "events", "N", "kinetic_energy", "kT", "pressure", "mean_free_time", "momentum_x",
-            "momentum_y", "drag_x", "drag_y"};
+            "momentum_y", "drag_x", "drag_y", "inserted", "removed", "N_frozen"};
   }
   std::vector<double> stats_row() override {
     const ed::Observables o = sim_.observables();
@@ -144,9 +157,12 @@ public:
       drag = (obstacle_->impulse() - impulse_at_reset_) / o.duration;
       impulse_at_reset_ = obstacle_->impulse();
     }
-    std::vector<double> row = {double(sim_.stats().collisions), double(sim_.stats().events), double(sim_.size()),
+    // N: disks present; inserted/removed: disks that entered/left through open stream
+    // boundaries since the start; N_frozen: of N, those frozen by the filter (§3.3).
+    std::vector<double> row = {double(sim_.stats().collisions), double(sim_.stats().events), double(sim_.count()),
                                sim_.kinetic_energy(), o.kT, o.pressure, o.mean_free_time, p.x(), p.y(),
-                               drag.x(), drag.y()};
+                               drag.x(), drag.y(), double(sim_.stats().inserted), double(sim_.stats().removed),
+                               double(sim_.state().frozen_count())};
     sim_.reset_measurements();
     return row;
   }
@@ -157,11 +173,40 @@ public:
     return {{"obstacle_hits", obstacle_ ? double(obstacle_->hits()) : 0.0},
             {"collisions", double(sim_.stats().collisions)},
             {"events", double(sim_.stats().events)},
-            {"disks", double(sim_.size())},
+            {"disks", double(sim_.count())},
+            {"disks_inserted", double(sim_.stats().inserted)},
+            {"disks_removed", double(sim_.stats().removed)},
             {"area_fraction", sim_.area_fraction()}};
   }
 
 private:
+  // Open inlet/outlet along x (seed 003 §3.2–3.3), with the system's U, kT and density.
+  void add_stream_boundaries(const Scene& sc) {
+    const std::string kind = sc.get<std::string>("boundary.stream.kind");
+    const ed::Config& c = sim_.config();
+    const std::uint64_t seed = c.seed * 0x9e3779b97f4a7c15ULL + 2;  // its own random streams
+    if (kind == "dispenser_filter") {
+      ed::DenseStreamConfig d;
+      d.U = c.stream.x();
+      d.kT = c.kT;
+      d.area_fraction = stream_area_fraction(sc, c);
+      d.filter_distance = sc.get<double>("boundary.stream.filter_distance");
+      d.piston = sc.get<std::string>("boundary.stream.piston") == "thermal" ? ed::PistonKind::thermal
+                                                                            : ed::PistonKind::elastic;
+      d.seed = seed;
+      dense_ = ed::add_dense_stream(sim_, d);
+    } else if (kind == "low_density") {
+      ed::LowDensityStreamConfig l;
+      l.U = c.stream.x();
+      l.kT = c.kT;
+      l.number_density = stream_area_fraction(sc, c) / (std::numbers::pi / 4.0);
+      l.seed = seed;
+      const double x_out = c.lx - 1.0;
+      sim_.remove_disks_unless([&](int i) { return sim_.disks()[i].x >= l.x_in && sim_.disks()[i].x <= x_out; });
+      ed::add_low_density_stream(sim_, l);
+    }
+  }
+
   // Bins whose centre lies inside the obstacle hold no gas: masked, not "empty" (seed 003
   // draws the obstacle over its fields).
   void mask_solid_bins(render::Snapshot& s) const {
@@ -179,6 +224,7 @@ private:
   ed::Simulation sim_;
   ed::FieldSampler* sampler_ = nullptr;     // owned by sim_
   ed::CircularObstacle* obstacle_ = nullptr;  // owned by sim_, when the scene has one
+  ed::DenseStream dense_;                      // agents owned by sim_, for dispenser_filter
   Vec2 impulse_at_reset_ = Vec2::Zero();
 };
 

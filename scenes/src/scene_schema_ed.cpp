@@ -53,7 +53,8 @@ void add_ed_schema(Schema& s) {
   });
 
   auto& bnd = s.section("boundary", "edges of the domain, the obstacle and the stream inlet/outlet (seed 003 §3)");
-  bnd.add_bool_array("periodic", {true, true}, {"x", "y"}, "periodic axes; a non-periodic axis has elastic walls");
+  bnd.add_bool_array("periodic", {true, true}, {"x", "y"}, "periodic axes; a non-periodic axis has elastic walls, except x with an open "
+                      "boundary.stream.kind (the inlet/outlet close it)");
 
   auto& obs = s.optional_table("boundary.obstacle", "fixed circular obstacle (§3.3, §5)");
   obs.add_float("D", 74.0, "obstacle diameter", "σ").above(0.0);
@@ -63,9 +64,21 @@ void add_ed_schema(Schema& s) {
                "surface: specular slip, no-slip by thermal re-emission, or no-slip by tangential flip");
   obs.add_float("r", 1.0, "restitution of the obstacle surface (slip)").above(0.0).at_most(1.0);
 
-  auto& stream = s.section("boundary.stream", "how disks enter at x = 0 and leave at x = Lx (§3.1–3.2)");
+  auto& stream = s.section("boundary.stream", "how disks enter at x = 0 and leave at x = Lx (§3.1–3.3); the "
+                                              "stream's velocity, temperature and density are system.U, kT and "
+                                              "the system's area fraction");
   stream.add_enum("kind", {"periodic", "low_density", "dispenser_filter"}, "periodic",
-                  "periodic in x, low-density inlet/outlet by flux distributions, or dispenser piston + filter");
+                  "periodic in x, low-density inlet/outlet by flux distributions (§3.2), or dispenser piston + "
+                  "filter (§3.3, dense streams)");
+  stream.add_float("filter_distance", 3.0,
+                   "dispenser_filter: distance of the filter plane before the outlet x = Lx; disks crossing it "
+                   "are turned back or frozen at the stream velocity (Fig. 3.8)",
+                   "σ")
+      .above(0.5)
+      .with_note("more than a disk radius (seed §3.3)");
+  stream.add_enum("piston", {"elastic", "thermal"}, "elastic",
+                  "dispenser_filter: the inlet piston reflects disks specularly in its frame, or re-emits them at "
+                  "system.kT (Fig. 3.9)");
 
   s.add_check([](const Scene& sc, SceneCheck& c) {
     const auto box = sc.get<std::array<double, 2>>("system.box");
@@ -82,7 +95,36 @@ void add_ed_schema(Schema& s) {
       c.fail("system.cell_size", "system.cell_size = " + toml_float(cell) +
                                      " leaves fewer than 3 cells across the box; allowed: cell_size ≤ min(Lx, Ly)/3");
     const auto periodic = sc.get<std::array<bool, 2>>("boundary.periodic");
-    if (sc.get<std::string>("boundary.stream.kind") != "periodic" && periodic[0])
+    const std::string kind = sc.get<std::string>("boundary.stream.kind");
+    if (kind == "dispenser_filter") {
+      const double fd = sc.get<double>("boundary.stream.filter_distance");
+      if (fd >= box[0] / 2)
+        c.fail("boundary.stream.filter_distance",
+               "boundary.stream.filter_distance = " + toml_float(fd) + " leaves no stream before the filter; allowed: "
+               "filter_distance < Lx/2 = " + toml_float(box[0] / 2));
+      const double eta = sc.has("system.area_fraction") ? sc.get<double>("system.area_fraction")
+                         : sc.has("system.n")             ? sc.get<double>("system.n") * std::numbers::pi / 4
+                         : sc.has("system.N") ? double(sc.get<std::int64_t>("system.N")) * std::numbers::pi / 4 /
+                                                    (box[0] * box[1])
+                                              : 0.0;
+      if (eta >= std::numbers::pi / 4)
+        c.fail("system.area_fraction", "area fraction " + toml_float(eta) +
+                                           " with boundary.stream.kind = \"dispenser_filter\": the dispenser's "
+                                           "monolayer cannot hold it; allowed: area fraction < π/4 ≈ 0.785");
+      if (sc.get<double>("system.U") < 0)
+        c.fail("system.U", "system.U = " + toml_float(sc.get<double>("system.U")) +
+                               " with boundary.stream.kind = \"dispenser_filter\"; allowed: U ≥ 0 (the stream runs "
+                               "along +x)");
+      if (sc.has("boundary.obstacle")) {
+        const double R = sc.get<double>("boundary.obstacle.D") / 2, x = sc.get<double>("boundary.obstacle.x");
+        if (x + R + 2 > box[0] - fd || x - R - 2 < 1)
+          c.fail("boundary.obstacle.x", "obstacle at x = " + toml_float(x) + " with D = " + toml_float(2 * R) +
+                                            " reaches the dispenser strip [0, 1] or the filter at Lx − filter_distance "
+                                            "= " + toml_float(box[0] - fd) + "; allowed: 3 + R ≤ x ≤ Lx − "
+                                            "filter_distance − 2 − R");
+      }
+    }
+    if (kind != "periodic" && periodic[0])
       c.fail("boundary.periodic", "boundary.stream.kind = \"" + sc.get<std::string>("boundary.stream.kind") +
                                       "\" needs an open x axis; allowed: boundary.periodic = [false, …]");
   });

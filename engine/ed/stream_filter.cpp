@@ -1,0 +1,52 @@
+#include "engine/ed/stream_filter.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include <fmt/format.h>
+
+#include "engine/core/error.hpp"
+#include "engine/ed/system_state.hpp"
+
+namespace grainflow::ed {
+
+StreamFilter::StreamFilter(const FilterConfig& cfg)
+    : cfg_(cfg), xf_(cfg.lx - cfg.distance), flux_(cfg.U, cfg.kT, cfg.mass), rng_(cfg.seed) {
+  if (!(cfg.distance > 0.0 && cfg.distance < cfg.lx))
+    throw Error(fmt::format("ed filter: distance = {} is invalid; allowed: 0 < distance < Lx = {}", cfg.distance,
+                            cfg.lx));
+}
+
+void StreamFilter::cells(const CellGrid& g, std::vector<int>& out) const {
+  // Disks that can reach x_f before leaving their cell, and every cell beyond (frozen
+  // disks travel to Lx there).
+  for (int ix = 0; ix < g.nx(); ++ix)
+    if ((ix + 1) * g.width() >= xf_)
+      for (int iy = 0; iy < g.ny(); ++iy) out.push_back(g.index(ix, iy));
+}
+
+double StreamFilter::event_time(const SystemState& s, int i) const {
+  const Disk& d = s.disk[i];
+  if (!(d.vx > 0.0)) return kNever;
+  if (s.frozen(i)) return cfg_.delete_instead_of_freeze ? kNever : std::max(0.0, cfg_.lx - d.x) / d.vx;
+  return std::max(0.0, xf_ - d.x) / d.vx;
+}
+
+void StreamFilter::action(SystemState& s, int i) {
+  if (s.frozen(i)) {  // reached the real boundary
+    s.remove_disk(i);
+    return;
+  }
+  if (rng_.uniform() < flux_.turn_back_probability()) {
+    const Vec2 v = flux_.sample_backward(rng_);
+    ++turned_;
+    s.set_velocity(i, v.x(), v.y());
+  } else if (cfg_.delete_instead_of_freeze) {
+    s.remove_disk(i);
+  } else {
+    ++frozen_;
+    s.freeze(i, cfg_.U, 0.0);
+  }
+}
+
+}  // namespace grainflow::ed
