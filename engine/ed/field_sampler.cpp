@@ -37,7 +37,9 @@ void FieldSampler::action(SystemState& s) {
   const CellGrid& g = s.grid;
   acc_.begin_frame(2, true, true);
   for (int i = 0; i < s.size(); ++i) {
-    if (!s.present(i)) continue;  // an empty slot (open stream boundaries)
+    // Empty slots, and frozen disks beyond the outlet filter: those are the boundary
+    // (infinitely heavy, no thermal motion, §3.3), not the gas, as the obstacle is.
+    if (!s.present(i) || s.frozen(i)) continue;
     Vec2 p = s.position_now(i);
     // Cells keep disks inside the box up to round-off; wrap periodic coordinates exactly.
     if (g.periodic_x()) p.x() -= g.lx() * std::floor(p.x() / g.lx());

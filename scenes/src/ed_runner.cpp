@@ -6,6 +6,7 @@
 #include <string>
 
 #include "engine/core/error.hpp"
+#include "engine/core/state_digest.hpp"
 #include "engine/ed/dense_stream.hpp"
 #include "engine/ed/field_sampler.hpp"
 #include "engine/ed/low_density_stream.hpp"
@@ -138,7 +139,7 @@ public:
     auto exposures = sampler_->take_frames();
     if (!exposures.empty()) {
       set_binned_fields(std::move(exposures.back().fields), s);
-      if (obstacle_) mask_solid_bins(s);
+      mask_solid_bins(s);
     }
     if (cfg.stream.x() != 0 || cfg.stream.y() != 0) s.reference_velocity = Eigen::Vector2d(cfg.stream.x(), cfg.stream.y());
   }
@@ -179,6 +180,21 @@ public:
             {"area_fraction", sim_.area_fraction()}};
   }
 
+  std::string state_digest() const override {
+    // Each present disk as stored (position and velocity at its own clock, spin), in slot
+    // order, with the clock: equal for runs that made the same events in the same order.
+    core::StateDigest dg;
+    dg.add(sim_.time());
+    const auto& disks = sim_.disks();
+    for (int i = 0; i < sim_.size(); ++i) {
+      if (!sim_.present(i)) continue;
+      const ed::Disk& d = disks[i];
+      dg.add(std::uint64_t(i));
+      for (double v : {d.x, d.y, d.vx, d.vy, d.t, sim_.omega().empty() ? 0.0 : sim_.omega()[i]}) dg.add(v);
+    }
+    return dg.hex();
+  }
+
 private:
   // Open inlet/outlet along x (seed 003 §3.2–3.3), with the system's U, kT and density.
   void add_stream_boundaries(const Scene& sc) {
@@ -207,15 +223,19 @@ private:
     }
   }
 
-  // Bins whose centre lies inside the obstacle hold no gas: masked, not "empty" (seed 003
-  // draws the obstacle over its fields).
+  // Bins whose centre lies inside the obstacle, or beyond the outlet filter (frozen disks,
+  // not sampled), hold no gas: masked, not "empty" (seed 003 draws the obstacle over its
+  // fields).
   void mask_solid_bins(render::Snapshot& s) const {
-    const Vec2 c = obstacle_->config().centre;
-    const double r = obstacle_->config().radius;
+    if (!obstacle_ && !dense_.filter) return;
+    auto solid = [&](const Vec2& p) {
+      if (obstacle_ && (p - obstacle_->config().centre).norm() < obstacle_->config().radius) return true;
+      return dense_.filter && p.x() > dense_.filter->plane();
+    };
     auto mask = [&](auto& field) {
       for (int iy = 0; iy < field.grid.ny; ++iy)
         for (int ix = 0; ix < field.grid.nx; ++ix)
-          if ((field.grid.centre(ix, iy) - c).norm() < r) field.mask[field.grid.index(ix, iy)] = 0;
+          if (solid(field.grid.centre(ix, iy))) field.mask[field.grid.index(ix, iy)] = 0;
     };
     for (auto& f : s.fields) mask(f.field);
     if (s.velocity) mask(*s.velocity);
