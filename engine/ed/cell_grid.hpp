@@ -64,6 +64,20 @@ public:
   const std::int32_t* members(int c) const { return &slots_[static_cast<std::size_t>(c) * stride_ + 1]; }
   int capacity() const { return cap_; }
   int cell(int i) const { return cell_[i]; }
+  // Cache hints (no effect on results): disk i's cell entry, and the member slots of the
+  // 3×3 block of cells around cell c (three runs of three cells each).
+  void prefetch_cell_of(int i) const { __builtin_prefetch(cell_.data() + i); }
+  void prefetch_block(int c) const {
+    const int x0 = ix(c) > 0 ? ix(c) - 1 : 0, x1 = ix(c) + 1 < nx_ ? ix(c) + 1 : nx_ - 1;
+    const int y = iy(c);
+    for (int yy = y > 0 ? y - 1 : 0; yy <= (y + 1 < ny_ ? y + 1 : ny_ - 1); ++yy) {
+      const char* a = reinterpret_cast<const char*>(&slots_[static_cast<std::size_t>(index(x0, yy)) * stride_]);
+      const char* b = reinterpret_cast<const char*>(&slots_[static_cast<std::size_t>(index(x1, yy)) * stride_ + cap_]);
+      for (; a <= b; a += 64) __builtin_prefetch(a);
+      __builtin_prefetch(b);
+    }
+  }
+  void advise_huge_pages() const;  // see huge_pages.hpp
   std::size_t memory_bytes() const { return (slots_.capacity() + cell_.capacity() + pos_.capacity()) * 4; }
 
 private:

@@ -9,6 +9,7 @@
 #include <functional>
 #include <vector>
 
+#include "engine/ed/huge_pages.hpp"
 #include "engine/ed/system_state.hpp"
 
 namespace grainflow::ed {
@@ -42,19 +43,14 @@ public:
   void start() override {
     const int n = s_.size();
     const int nt = static_cast<int>(s_.timers.size());
-    s_.key.assign(n + nt, kNever);
-    s_.pair_time.assign(n, kNever);
-    s_.cross_time.assign(n, kNever);
-    s_.partner.assign(n, -1);
-    s_.partner_count.assign(n, 0);
-    s_.kind.assign(n, EventKind::None);
-    s_.cross_dir.assign(n, 0);
+    s_.reset_events(n, nt);
     for (int i = 0; i < n; ++i)
       if (s_.present(i)) predict_full(i);
     s_.clear_changes();
     s_.clear_touched();
     for (int a = 0; a < nt; ++a) s_.key[n + a] = std::max(s_.now(), s_.timers[a]->event_time(s_));
     cal_.reset(s_.key.data(), &s_.grid, n, nt);
+    advise_memory();
   }
 
   void run_until(double t) override {
@@ -86,17 +82,58 @@ public:
   const char* calendar_name() const override { return Calendar::kName; }
 
 private:
+  // Huge-page advice for the arrays the loop touches at random (a hint: see huge_pages.hpp).
+  void advise_memory() const {
+    advise_huge_pages(s_.disk);
+    advise_huge_pages(s_.event);
+    advise_huge_pages(s_.key);
+    advise_huge_pages(s_.counter);
+    advise_huge_pages(s_.mass);
+    advise_huge_pages(s_.omega);
+    s_.grid.advise_huge_pages();
+    cal_.advise_huge_pages();
+  }
+
+  // Cache hints for an entry that will probably come up soon (results never depend on them).
+  void prefetch_entry(int e) const {
+    if (e >= s_.size()) return;
+    __builtin_prefetch(&s_.event[e]);
+    __builtin_prefetch(&s_.disk[e]);
+    __builtin_prefetch(reinterpret_cast<const char*>(&s_.disk[e]) + sizeof(Disk) - 1);
+    s_.grid.prefetch_cell_of(e);
+  }
+
+  // Second stage, for an entry whose own records were prefetched before.
+  void prefetch_surroundings(int e) const {
+    if (e >= s_.size()) return;
+    s_.grid.prefetch_block(s_.grid.cell(e));
+    const NextEvent& ev = s_.event[e];
+    if (ev.kind == EventKind::Pair) {
+      __builtin_prefetch(&s_.disk[ev.partner]);
+      __builtin_prefetch(&s_.counter[ev.partner]);
+    }
+  }
+
   void process(int e) {
     ++s_.stats.events;
     s_.advance_clock(s_.key[e]);
     const int n = s_.size();
+    // Software pipelining: the memory of the coming events is fetched in stages while this
+    // one runs — first their own records, an event later (those records now in cache) their
+    // cells' member slots and partners — and this event's neighbourhood while its partner's
+    // counter is checked.
+    cal_.peek_bucket(3, 1, [this](int x) { prefetch_entry(x); });
+    cal_.peek_bucket(2, 2, [this](int x) { prefetch_entry(x); });
+    cal_.peek_bucket(1, 3, [this](int x) { prefetch_surroundings(x); });
+    cal_.peek_next([this](int x) { prefetch_entry(x); });
+    if (e < n) s_.grid.prefetch_block(s_.grid.cell(e));
     if (e >= n) {
       timer_event(e - n);
-    } else if (s_.cross_time[e] <= s_.pair_time[e]) {
+    } else if (s_.event[e].cross_time <= s_.event[e].pair_time) {
       crossing(e);
-    } else if (s_.kind[e] == EventKind::Pair) {
-      const int j = s_.partner[e];
-      if (s_.counter[j] != s_.partner_count[e]) {
+    } else if (s_.event[e].kind == EventKind::Pair) {
+      const int j = s_.event[e].partner;
+      if (s_.counter[j] != s_.event[e].partner_count) {
         ++s_.stats.stale;
         predict_full(e);
         cal_.update(e);
@@ -106,7 +143,7 @@ private:
         collide(e, j);
       }
     } else {
-      agent_event(e, s_.partner[e]);
+      agent_event(e, s_.event[e].partner);
     }
     cal_.commit();
   }
@@ -158,7 +195,7 @@ private:
     Disk& d = s_.disk[i];
     const int from = g.cell(i);
     int ix = g.ix(from), iy = g.iy(from);
-    const int dir = s_.cross_dir[i];
+    const int dir = s_.event[i].cross_dir;
     switch (dir) {
       case 0: if (++ix == g.nx()) { ix = 0; d.x -= g.lx(); } break;
       case 1: if (--ix < 0) { ix = g.nx() - 1; d.x += g.lx(); } break;
@@ -169,16 +206,20 @@ private:
     g.remove(i);
     g.insert(i, to);
     cal_.moved(i, from, to);
-    if (s_.kind[i] == EventKind::Pair && s_.counter[s_.partner[i]] != s_.partner_count[i]) {
+    const NextEvent& ev = s_.event[i];
+    if (ev.kind == EventKind::Pair && s_.counter[ev.partner] != ev.partner_count) {
       predict_full(i);  // the remembered partner changed: the old neighbourhood must be rescanned
     } else {
       // The best event in the old neighbourhood still holds; only the newly adjacent row of
       // cells and the agents of the new cell can offer an earlier one (cells ≥ σ, §2.2).
-      const double held = s_.pair_time[i] - s_.now();
+      const double held = ev.pair_time - s_.now();
       double best = held;
-      int who = s_.partner[i];
-      EventKind kind = s_.kind[i];
+      int who = ev.partner;
+      EventKind kind = ev.kind;
       const Disk di = d;
+      int cells[3];
+      double shx[3], shy[3];
+      int nc = 0;
       if (dir < 2) {
         int cx = ix + (dir == 0 ? 1 : -1);
         double sx = 0.0;
@@ -186,8 +227,11 @@ private:
           for (int k = -1; k <= 1; ++k) {
             int cy = iy + k;
             double sy = 0.0;
-            if (wrap(cy, g.ny(), g.periodic_y(), g.ly(), sy))
-              scan_cell(i, di, g.index(cx, cy), sx, sy, best, who, kind);
+            if (wrap(cy, g.ny(), g.periodic_y(), g.ly(), sy)) {
+              cells[nc] = g.index(cx, cy);
+              shx[nc] = sx;
+              shy[nc++] = sy;
+            }
           }
       } else {
         int cy = iy + (dir == 2 ? 1 : -1);
@@ -196,14 +240,18 @@ private:
           for (int k = -1; k <= 1; ++k) {
             int cx = ix + k;
             double sx = 0.0;
-            if (wrap(cx, g.nx(), g.periodic_x(), g.lx(), sx))
-              scan_cell(i, di, g.index(cx, cy), sx, sy, best, who, kind);
+            if (wrap(cx, g.nx(), g.periodic_x(), g.lx(), sx)) {
+              cells[nc] = g.index(cx, cy);
+              shx[nc] = sx;
+              shy[nc++] = sy;
+            }
           }
       }
+      scan_cells(i, di, cells, shx, shy, nc, best, who, kind);
       scan_agents(i, to, best, who, kind);
       if (best < held) store_pair(i, best, who, kind);  // else keep the held event bit-exact
       crossing_time(i);
-      s_.key[i] = std::min(s_.pair_time[i], s_.cross_time[i]);
+      s_.key[i] = std::min(ev.pair_time, ev.cross_time);
     }
     cal_.update(i);
   }
@@ -254,7 +302,10 @@ private:
   // ones are predicted, and so is every disk of the 3×3 cells around them, whose events
   // did not know the newcomer.
   void settle_changes() {
-    if (s_.grown()) cal_.reset(s_.key.data(), &s_.grid, s_.size(), static_cast<int>(s_.timers.size()));
+    if (s_.grown()) {
+      cal_.reset(s_.key.data(), &s_.grid, s_.size(), static_cast<int>(s_.timers.size()));
+      advise_memory();  // the slot arrays were reallocated
+    }
     for (const SystemState::Removal& r : s_.removed()) cal_.removed(r.id, r.cell);
     if (!s_.added().empty()) {
       around_.clear();
@@ -356,27 +407,88 @@ private:
     return true;
   }
 
-  void scan_cell(int i, const Disk& di, int c, double sx, double sy, double& best, int& who,
-                 EventKind& kind) const {
+  // Earliest pair event of disk i with the disks of cells[0..nc) (image shifts shx, shy),
+  // in two passes: first gather every candidate and prefetch its disk, so that all the
+  // cache misses of the neighbourhood are in flight together (at large N the scan waits on
+  // memory, not arithmetic), then compute branch-free. Candidates are visited in the
+  // cells' order, so ties resolve as in a plain cell-by-cell scan.
+  void scan_cells(int i, const Disk& di, const int* cells, const double* shx, const double* shy, int nc,
+                  double& best, int& who, EventKind& kind) {
+    const CellGrid& g = s_.grid;
+    const std::size_t need = static_cast<std::size_t>(nc) * static_cast<std::size_t>(g.capacity());
+    if (cand_.size() < need) cand_.resize(need);
+    for (int k = 0; k < nc; ++k) __builtin_prefetch(g.members(cells[k]) - 1);
+    const Disk* disk = s_.disk.data();
+    Candidate* cand = cand_.data();
+    int n = 0;
+    for (int k = 0; k < nc; ++k) {
+      const std::int32_t* m = g.members(cells[k]);
+      for (int q = 0, cnt = g.count(cells[k]); q < cnt; ++q) {
+        const int j = m[q];
+        __builtin_prefetch(disk + j);
+        __builtin_prefetch(reinterpret_cast<const char*>(disk + j) + sizeof(Disk) - 1);
+        cand[n] = Candidate{shx[k], shy[k], j};
+        n += (j != i);
+      }
+    }
+    // Two candidates per step in SSE2 lanes (the same IEEE operations in the same order
+    // as pair_collision_time, so the same bits); the minimum is then taken in candidate order.
     const double now = s_.now();
-    const std::int32_t* m = s_.grid.members(c);
-    for (int k = 0, cnt = s_.grid.count(c); k < cnt; ++k) {
-      const int j = m[k];
-      if (j == i) continue;
-      const Disk& dj = s_.disk[j];
+    int k = 0;
+#if defined(__SSE2__)
+    const __m128d vnow = _mm_set1_pd(now), zero = _mm_setzero_pd(), never = _mm_set1_pd(kNever);
+    const __m128d sign = _mm_set1_pd(-0.0);
+    const __m128d ix = _mm_set1_pd(di.x), iy = _mm_set1_pd(di.y), ivx = _mm_set1_pd(di.vx),
+                  ivy = _mm_set1_pd(di.vy), ir = _mm_set1_pd(di.r);
+    for (; k + 1 < n; k += 2) {
+      const Disk& p = disk[cand[k].j];
+      const Disk& q = disk[cand[k + 1].j];
+      const __m128d dt = _mm_sub_pd(vnow, _mm_set_pd(q.t, p.t));
+      const __m128d vx = _mm_set_pd(q.vx, p.vx), vy = _mm_set_pd(q.vy, p.vy);
+      const __m128d jx = _mm_add_pd(_mm_add_pd(_mm_set_pd(q.x, p.x), _mm_mul_pd(vx, dt)),
+                                    _mm_set_pd(cand[k + 1].sx, cand[k].sx));
+      const __m128d jy = _mm_add_pd(_mm_add_pd(_mm_set_pd(q.y, p.y), _mm_mul_pd(vy, dt)),
+                                    _mm_set_pd(cand[k + 1].sy, cand[k].sy));
+      const __m128d dx = _mm_sub_pd(ix, jx), dy = _mm_sub_pd(iy, jy);
+      const __m128d dvx = _mm_sub_pd(ivx, vx), dvy = _mm_sub_pd(ivy, vy);
+      const __m128d sigma = _mm_add_pd(ir, _mm_set_pd(q.r, p.r));
+      const __m128d b = _mm_add_pd(_mm_mul_pd(dx, dvx), _mm_mul_pd(dy, dvy));
+      const __m128d v2 = _mm_add_pd(_mm_mul_pd(dvx, dvx), _mm_mul_pd(dvy, dvy));
+      const __m128d c = _mm_sub_pd(_mm_add_pd(_mm_mul_pd(dx, dx), _mm_mul_pd(dy, dy)), _mm_mul_pd(sigma, sigma));
+      const __m128d disc = _mm_sub_pd(_mm_mul_pd(b, b), _mm_mul_pd(v2, c));
+      const __m128d root = _mm_div_pd(c, _mm_add_pd(_mm_xor_pd(b, sign), _mm_sqrt_pd(disc)));
+      const __m128d t = _mm_andnot_pd(_mm_cmple_pd(c, zero), root);  // contact now: +0
+      const __m128d ok = _mm_and_pd(_mm_cmplt_pd(b, zero), _mm_cmpge_pd(disc, zero));
+      alignas(16) double tt[2];
+      _mm_store_pd(tt, _mm_or_pd(_mm_and_pd(ok, t), _mm_andnot_pd(ok, never)));
+      if (tt[0] < best) {
+        best = tt[0];
+        who = cand[k].j;
+        kind = EventKind::Pair;
+      }
+      if (tt[1] < best) {
+        best = tt[1];
+        who = cand[k + 1].j;
+        kind = EventKind::Pair;
+      }
+    }
+#endif
+    for (; k < n; ++k) {
+      const Disk& dj = disk[cand[k].j];
       const double dt = now - dj.t;
-      const double t = pair_collision_time(di.x - (dj.x + dj.vx * dt + sx), di.y - (dj.y + dj.vy * dt + sy),
-                                           di.vx - dj.vx, di.vy - dj.vy, di.r + dj.r);
+      const double t = pair_collision_time_branchless(di.x - (dj.x + dj.vx * dt + cand[k].sx),
+                                                      di.y - (dj.y + dj.vy * dt + cand[k].sy),
+                                                      di.vx - dj.vx, di.vy - dj.vy, di.r + dj.r);
       if (t < best) {
         best = t;
-        who = j;
+        who = cand[k].j;
         kind = EventKind::Pair;
       }
     }
   }
 
   void scan_agents(int i, int c, double& best, int& who, EventKind& kind) const {
-    if (s_.cell_agent_begin.empty()) return;
+    if (s_.cell_agents.empty()) return;  // no agent in any cell: skip the per-cell lookup
     for (int k = s_.cell_agent_begin[c]; k < s_.cell_agent_begin[c + 1]; ++k) {
       const int a = s_.cell_agents[k];
       const double t = s_.agents[a]->event_time(s_, i);
@@ -389,10 +501,11 @@ private:
   }
 
   void store_pair(int i, double best, int who, EventKind kind) {
-    s_.pair_time[i] = s_.now() + best;
-    s_.partner[i] = who;
-    s_.kind[i] = best == kNever ? EventKind::None : kind;
-    s_.partner_count[i] = kind == EventKind::Pair ? s_.counter[who] : 0u;
+    NextEvent& ev = s_.event[i];
+    ev.pair_time = s_.now() + best;
+    ev.partner = who;
+    ev.kind = best == kNever ? EventKind::None : kind;
+    ev.partner_count = kind == EventKind::Pair ? s_.counter[who] : 0u;
   }
 
   // Full prediction for disk i over its 3×3 neighbourhood (§2.2) and its cell's agents.
@@ -405,6 +518,9 @@ private:
     double best = kNever;
     int who = -1;
     EventKind kind = EventKind::None;
+    int cells[9];
+    double shx[9], shy[9];
+    int nc = 0;
     for (int ky = -1; ky <= 1; ++ky) {
       int cy = iy + ky;
       double sy = 0.0;
@@ -413,13 +529,16 @@ private:
         int cx = ix + kx;
         double sx = 0.0;
         if (!wrap(cx, g.nx(), g.periodic_x(), g.lx(), sx)) continue;
-        scan_cell(i, di, g.index(cx, cy), sx, sy, best, who, kind);
+        cells[nc] = g.index(cx, cy);
+        shx[nc] = sx;
+        shy[nc++] = sy;
       }
     }
+    scan_cells(i, di, cells, shx, shy, nc, best, who, kind);
     scan_agents(i, c, best, who, kind);
     store_pair(i, best, who, kind);
     crossing_time(i);
-    s_.key[i] = std::min(s_.pair_time[i], s_.cross_time[i]);
+    s_.key[i] = std::min(s_.event[i].pair_time, s_.event[i].cross_time);
   }
 
   // Next crossing of a wall of the disk's own cell (the cell index is authoritative; the
@@ -445,13 +564,19 @@ private:
     }
     const bool use_x = tx <= ty;
     const double t = std::max(0.0, use_x ? tx : ty);
-    s_.cross_time[i] = s_.now() + t;
-    s_.cross_dir[i] = use_x ? dx : dy;
+    s_.event[i].cross_time = s_.now() + t;
+    s_.event[i].cross_dir = use_x ? dx : dy;
   }
+
+  struct Candidate {
+    double sx, sy;
+    int j;
+  };
 
   SystemState& s_;
   Calendar cal_;
-  std::vector<int> around_;  // scratch: disks around newcomers
+  std::vector<int> around_;      // scratch: disks around newcomers
+  std::vector<Candidate> cand_;  // scratch of scan_cells
 };
 
 }  // namespace grainflow::ed

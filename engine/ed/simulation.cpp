@@ -251,8 +251,7 @@ double Simulation::min_gap() const {
 std::size_t Simulation::memory_bytes() const {
   const std::size_t n = s_.disk.capacity();
   const std::size_t per = sizeof(Disk) + 8 /*mass*/ + 8 /*omega*/ + 4 /*counter*/ + 8 /*key*/ +
-                          8 /*pair_time*/ + 8 /*cross_time*/ + 4 /*partner*/ + 4 /*partner_count*/ +
-                          1 /*kind*/ + 1 /*cross_dir*/ + 1 /*slot*/;
+                          sizeof(NextEvent) + 1 /*slot*/;
   return n * per + s_.grid.memory_bytes() + loop_->calendar_bytes();
 }
 

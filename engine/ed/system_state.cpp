@@ -93,14 +93,9 @@ void SystemState::grow() {
   slot.resize(n1, SlotState::absent);
   grid.grow_particles(n1);
   // Prediction arrays exist once the loop has started; timer keys follow the disk slots.
-  if (static_cast<int>(pair_time.size()) == n) {
+  if (static_cast<int>(event.size()) == n) {
     key.insert(key.begin() + n, static_cast<std::size_t>(n1 - n), kNever);
-    pair_time.resize(n1, kNever);
-    cross_time.resize(n1, kNever);
-    partner.resize(n1, -1);
-    partner_count.resize(n1, 0u);
-    kind.resize(n1, EventKind::None);
-    cross_dir.resize(n1, 0);
+    event.resize(n1, NextEvent{});
     grown_ = true;
   }
   for (int i = n1 - 1; i >= n; --i) free_.push_back(i);  // lowest id first
@@ -142,9 +137,9 @@ void SystemState::remove_disk(int i) {
   slot[i] = SlotState::absent;
   --n_present_;
   ++counter[i];  // partners' predictions with it become stale: no collision with the ghost
-  if (static_cast<int>(pair_time.size()) == size()) {
-    key[i] = pair_time[i] = cross_time[i] = kNever;
-    kind[i] = EventKind::None;
+  if (static_cast<int>(event.size()) == size()) {
+    key[i] = event[i].pair_time = event[i].cross_time = kNever;
+    event[i].kind = EventKind::None;
   }
   free_.push_back(i);
   ++stats.removed;

@@ -1,9 +1,12 @@
 // Pins the pair collision time of seed 003 Eq. 2.3–2.5 on hand-computed cases, and the
 // periodic image found through cell offsets.
+#include <bit>
 #include <cmath>
+#include <cstdint>
 
 #include <gtest/gtest.h>
 
+#include "engine/core/rng.hpp"
 #include "engine/ed/pair_collision_time.hpp"
 #include "engine/ed/simulation.hpp"
 
@@ -37,6 +40,33 @@ TEST(PairCollisionTime, FarPairIsAccurate) {
   EXPECT_NEAR(ed::pair_collision_time(1e6, 0.0, -1.0, 0.0, 1.0), 1e6 - 1.0, 1e-9);
   // Slightly overlapping and approaching (round-off): collide now.
   EXPECT_EQ(ed::pair_collision_time(1.0 - 1e-15, 0.0, -1.0, 0.0, 1.0), 0.0);
+}
+
+TEST(PairCollisionTime, BranchlessVariantIsBitIdentical) {
+  // The neighbourhood scan uses the branch-free form; it must return the same bits as the
+  // reference for approaching, receding, grazing, touching, overlapping and far pairs.
+  grainflow::core::Rng rng(5);
+  auto bits = [](double x) { return std::bit_cast<std::uint64_t>(x); };
+  int approaching = 0, hits = 0;
+  for (int k = 0; k < 200000; ++k) {
+    const double scale = k % 3 == 0 ? 1.0 : (k % 3 == 1 ? 1e-3 : 1e3);
+    const double dx = scale * (2.0 * rng.uniform() - 1.0), dy = scale * (2.0 * rng.uniform() - 1.0);
+    const double dvx = rng.normal(), dvy = rng.normal();
+    const double sigma = 0.5 + rng.uniform();
+    const double ref = ed::pair_collision_time(dx, dy, dvx, dvy, sigma);
+    ASSERT_EQ(bits(ed::pair_collision_time_branchless(dx, dy, dvx, dvy, sigma)), bits(ref))
+        << dx << " " << dy << " " << dvx << " " << dvy << " " << sigma;
+    approaching += dx * dvx + dy * dvy < 0.0;
+    hits += ref < ed::kNever;
+  }
+  // The sample covers every branch: receding, misses, hits (and contact-now at scale 1e-3).
+  EXPECT_GT(approaching, 80000);
+  EXPECT_GT(hits, 20000);
+  EXPECT_LT(hits, approaching);
+  for (double c : {3.0, 1.0 - 1e-15, 1.0, 0.5})
+    EXPECT_EQ(bits(ed::pair_collision_time_branchless(c, 0.0, -1.0, 0.0, 1.0)),
+              bits(ed::pair_collision_time(c, 0.0, -1.0, 0.0, 1.0)));
+  EXPECT_EQ(ed::pair_collision_time_branchless(3.0, 0.0, 0.0, 1.0, 1.0), ed::kNever);
 }
 
 TEST(PairCollisionTime, PeriodicImageThroughCells) {
