@@ -77,6 +77,18 @@ public:
       __builtin_prefetch(b);
     }
   }
+  // Calls f(j) for every disk of the 3×3 block around cell c, clamped at the grid's edges
+  // (no periodic wrap): for cache hints, whose misses at an edge cost only time.
+  template <class F>
+  void for_block_members(int c, F&& f) const {
+    const int x0 = ix(c) > 0 ? ix(c) - 1 : 0, x1 = ix(c) + 1 < nx_ ? ix(c) + 1 : nx_ - 1;
+    const int y = iy(c);
+    for (int yy = y > 0 ? y - 1 : 0; yy <= (y + 1 < ny_ ? y + 1 : ny_ - 1); ++yy)
+      for (int xx = x0; xx <= x1; ++xx) {
+        const std::int32_t* s = &slots_[static_cast<std::size_t>(index(xx, yy)) * stride_];
+        for (int q = 1; q <= s[0]; ++q) f(s[q]);
+      }
+  }
   void advise_huge_pages() const;  // see huge_pages.hpp
   std::size_t memory_bytes() const { return (slots_.capacity() + cell_.capacity() + pos_.capacity()) * 4; }
 

@@ -43,14 +43,14 @@ void CircularObstacle::action(SystemState& s, int i) {
     case ObstacleBoundary::thermal: {
       // Diffuse re-emission from a wall at kT_b: the flux-weighted normal speed has the
       // Rayleigh density (m v/kT) exp(−m v²/2kT), the tangential one is Gaussian.
-      const double s2 = cfg_.kT / s.mass[i];
+      const double s2 = cfg_.kT / s.disk[i].m;
       vn1 = std::sqrt(-2.0 * s2 * std::log(rng_.uniform_pos()));
       vt1 = std::sqrt(s2) * rng_.normal();
       break;
     }
   }
   const double vx = vn1 * nx - vt1 * ny, vy = vn1 * ny + vt1 * nx;
-  impulse_ -= s.mass[i] * Vec2{vx - d.vx, vy - d.vy};
+  impulse_ -= s.disk[i].m * Vec2{vx - d.vx, vy - d.vy};
   ++hits_;
   s.set_velocity(i, vx, vy);
 }

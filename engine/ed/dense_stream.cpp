@@ -17,7 +17,7 @@ DenseStream add_dense_stream(Simulation& sim, const DenseStreamConfig& cfg) {
   for (int i = 0; i < s.size(); ++i)
     if (s.present(i)) {
       radius = s.disk[i].r;
-      mass = s.mass[i];
+      mass = s.disk[i].m;
       break;
     }
   // The strip must lie well before the filter, the filter a radius before the outlet.

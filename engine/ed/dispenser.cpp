@@ -49,11 +49,11 @@ void DispenserPiston::action(SystemState& s, int i) {
   if (cfg_.piston == PistonKind::thermal) {
     // Diffuse re-emission from a wall at the stream temperature moving at U [TTKB98]: the
     // flux-weighted normal speed has the Rayleigh density, the tangential one is Gaussian.
-    const double s2 = cfg_.kT / s.mass[i];
+    const double s2 = cfg_.kT / s.disk[i].m;
     vx = cfg_.U + std::sqrt(-2.0 * s2 * std::log(rng_.uniform_pos()));
     vy = std::sqrt(s2) * rng_.normal();
   }
-  impulse_x_ += s.mass[i] * (vx - d.vx);
+  impulse_x_ += s.disk[i].m * (vx - d.vx);
   ++hits_;
   s.set_velocity(i, vx, vy);
 }

@@ -39,8 +39,8 @@ void ElasticWalls::action(SystemState& s, int i) {
   const double ty = wy_ ? wall_time(d.y, d.vy, d.r, ly_) : kNever;
   double vx = d.vx, vy = d.vy;
   if (tx <= ty) vx = -r_ * vx; else vy = -r_ * vy;
-  impulse_x_ -= s.mass[i] * (vx - d.vx);
-  impulse_y_ -= s.mass[i] * (vy - d.vy);
+  impulse_x_ -= s.disk[i].m * (vx - d.vx);
+  impulse_y_ -= s.disk[i].m * (vy - d.vy);
   s.set_velocity(i, vx, vy);
 }
 

@@ -88,30 +88,48 @@ private:
     advise_huge_pages(s_.event);
     advise_huge_pages(s_.key);
     advise_huge_pages(s_.counter);
-    advise_huge_pages(s_.mass);
-    advise_huge_pages(s_.omega);
     s_.grid.advise_huge_pages();
     cal_.advise_huge_pages();
   }
 
-  // Cache hints for an entry that will probably come up soon (results never depend on them).
+  // Cache hints for the entries that will probably come up soon (results never depend on
+  // them). At N ≳ 10^5 an event waits on a chain of dependent misses — its own records,
+  // then its cells' member slots, then the member disks (and the same for its partner) —
+  // so each stage below is applied one step further along the calendar than the next,
+  // and only reads what the stage before brought into cache.
+  void prefetch_disk(int j) const { __builtin_prefetch(&s_.disk[j]); }
+  // Stage 1: the entry's own records.
   void prefetch_entry(int e) const {
     if (e >= s_.size()) return;
     __builtin_prefetch(&s_.event[e]);
-    __builtin_prefetch(&s_.disk[e]);
-    __builtin_prefetch(reinterpret_cast<const char*>(&s_.disk[e]) + sizeof(Disk) - 1);
+    prefetch_disk(e);
     s_.grid.prefetch_cell_of(e);
   }
-
-  // Second stage, for an entry whose own records were prefetched before.
+  // Stage 2: its cells' member slots; its partner's records.
   void prefetch_surroundings(int e) const {
     if (e >= s_.size()) return;
     s_.grid.prefetch_block(s_.grid.cell(e));
     const NextEvent& ev = s_.event[e];
     if (ev.kind == EventKind::Pair) {
-      __builtin_prefetch(&s_.disk[ev.partner]);
+      prefetch_disk(ev.partner);
       __builtin_prefetch(&s_.counter[ev.partner]);
+      __builtin_prefetch(&s_.event[ev.partner]);
+      s_.grid.prefetch_cell_of(ev.partner);
     }
+  }
+  // Stage 3: the disks around it; its partner's cells' member slots.
+  void prefetch_neighbourhood(int e) const {
+    if (e >= s_.size()) return;
+    s_.grid.for_block_members(s_.grid.cell(e), [this](int j) { prefetch_disk(j); });
+    const NextEvent& ev = s_.event[e];
+    if (ev.kind == EventKind::Pair) s_.grid.prefetch_block(s_.grid.cell(ev.partner));
+  }
+  // Stage 4: the disks around its partner (the partner's prediction after the collision).
+  void prefetch_partner_neighbourhood(int e) const {
+    if (e >= s_.size()) return;
+    const NextEvent& ev = s_.event[e];
+    if (ev.kind == EventKind::Pair)
+      s_.grid.for_block_members(s_.grid.cell(ev.partner), [this](int j) { prefetch_disk(j); });
   }
 
   void process(int e) {
@@ -119,13 +137,12 @@ private:
     s_.advance_clock(s_.key[e]);
     const int n = s_.size();
     // Software pipelining: the memory of the coming events is fetched in stages while this
-    // one runs — first their own records, an event later (those records now in cache) their
-    // cells' member slots and partners — and this event's neighbourhood while its partner's
-    // counter is checked.
-    cal_.peek_bucket(3, 1, [this](int x) { prefetch_entry(x); });
-    cal_.peek_bucket(2, 2, [this](int x) { prefetch_entry(x); });
-    cal_.peek_bucket(1, 3, [this](int x) { prefetch_surroundings(x); });
-    cal_.peek_next([this](int x) { prefetch_entry(x); });
+    // one runs (see prefetch_entry … prefetch_partner_neighbourhood), and this event's own
+    // cells while its partner's counter is checked.
+    cal_.peek_bucket(3, 2, [this](int x) { prefetch_entry(x); });
+    cal_.peek_bucket(2, 2, [this](int x) { prefetch_surroundings(x); });
+    cal_.peek_bucket(1, 3, [this](int x) { prefetch_neighbourhood(x); });
+    cal_.peek_next([this](int x) { prefetch_partner_neighbourhood(x); });
     if (e < n) s_.grid.prefetch_block(s_.grid.cell(e));
     if (e >= n) {
       timer_event(e - n);
@@ -156,9 +173,9 @@ private:
     double sx, sy;
     s_.grid.image_shift(s_.grid.cell(i), s_.grid.cell(j), sx, sy);
     const double rx = a.x - (b.x + sx), ry = a.y - (b.y + sy);
-    const double m1 = s_.mass[i], m2 = s_.mass[j];
+    const double m1 = s_.disk[i].m, m2 = s_.disk[j].m;
     const CollisionImpulse J = collision_impulse(rx, ry, a.vx - b.vx, a.vy - b.vy, a.r, b.r,
-                                                 s_.omega[i], s_.omega[j], m1, m2, s_.rule);
+                                                 s_.disk[i].w, s_.disk[j].w, m1, m2, s_.rule);
     const double k0 = 0.5 * (m1 * (a.vx * a.vx + a.vy * a.vy) + m2 * (b.vx * b.vx + b.vy * b.vy));
     a.vx += J.jx / m1;
     a.vy += J.jy / m1;
@@ -167,11 +184,11 @@ private:
     const double k1 = 0.5 * (m1 * (a.vx * a.vx + a.vy * a.vy) + m2 * (b.vx * b.vx + b.vy * b.vy));
     double drot = 0.0;
     if (J.dw1 != 0.0 || J.dw2 != 0.0) {
-      const double w1 = s_.omega[i], w2 = s_.omega[j];
-      s_.omega[i] += J.dw1;
-      s_.omega[j] += J.dw2;
-      drot = 0.5 * (s_.inertia(i) * (s_.omega[i] * s_.omega[i] - w1 * w1) +
-                    s_.inertia(j) * (s_.omega[j] * s_.omega[j] - w2 * w2));
+      const double w1 = s_.disk[i].w, w2 = s_.disk[j].w;
+      s_.disk[i].w += J.dw1;
+      s_.disk[j].w += J.dw2;
+      drot = 0.5 * (s_.inertia(i) * (s_.disk[i].w * s_.disk[i].w - w1 * w1) +
+                    s_.inertia(j) * (s_.disk[j].w * s_.disk[j].w - w2 * w2));
     }
     s_.add_kinetic(k1 - k0, drot, 0.0, 0.0);
     s_.stats.virial += rx * J.jx + ry * J.jy;
@@ -348,18 +365,18 @@ private:
       double sx, sy;
       s_.grid.image_shift(s_.grid.cell(i), s_.grid.cell(j), sx, sy);
       const double rx = a.x - (b.x + sx), ry = a.y - (b.y + sy);
-      const double m = s_.mass[i];
-      const CollisionImpulse J = collision_impulse_heavy(rx, ry, a.vx - b.vx, a.vy - b.vy, a.r, b.r, s_.omega[i],
-                                                         s_.omega[j], m, s_.rule);
+      const double m = s_.disk[i].m;
+      const CollisionImpulse J = collision_impulse_heavy(rx, ry, a.vx - b.vx, a.vy - b.vy, a.r, b.r, s_.disk[i].w,
+                                                         s_.disk[j].w, m, s_.rule);
       const double k0 = 0.5 * m * (a.vx * a.vx + a.vy * a.vy);
       a.vx += J.jx / m;
       a.vy += J.jy / m;
       const double k1 = 0.5 * m * (a.vx * a.vx + a.vy * a.vy);
       double drot = 0.0;
       if (J.dw1 != 0.0) {
-        const double w1 = s_.omega[i];
-        s_.omega[i] += J.dw1;
-        drot = 0.5 * s_.inertia(i) * (s_.omega[i] * s_.omega[i] - w1 * w1);
+        const double w1 = s_.disk[i].w;
+        s_.disk[i].w += J.dw1;
+        drot = 0.5 * s_.inertia(i) * (s_.disk[i].w * s_.disk[i].w - w1 * w1);
       }
       s_.add_kinetic(k1 - k0, drot, J.jx, J.jy);  // the frozen disk absorbs −J
       s_.stats.virial += rx * J.jx + ry * J.jy;
@@ -426,8 +443,7 @@ private:
       for (int q = 0, cnt = g.count(cells[k]); q < cnt; ++q) {
         const int j = m[q];
         __builtin_prefetch(disk + j);
-        __builtin_prefetch(reinterpret_cast<const char*>(disk + j) + sizeof(Disk) - 1);
-        cand[n] = Candidate{shx[k], shy[k], j};
+        cand[n] = Candidate{j, k};
         n += (j != i);
       }
     }
@@ -446,9 +462,9 @@ private:
       const __m128d dt = _mm_sub_pd(vnow, _mm_set_pd(q.t, p.t));
       const __m128d vx = _mm_set_pd(q.vx, p.vx), vy = _mm_set_pd(q.vy, p.vy);
       const __m128d jx = _mm_add_pd(_mm_add_pd(_mm_set_pd(q.x, p.x), _mm_mul_pd(vx, dt)),
-                                    _mm_set_pd(cand[k + 1].sx, cand[k].sx));
+                                    _mm_set_pd(shx[cand[k + 1].k], shx[cand[k].k]));
       const __m128d jy = _mm_add_pd(_mm_add_pd(_mm_set_pd(q.y, p.y), _mm_mul_pd(vy, dt)),
-                                    _mm_set_pd(cand[k + 1].sy, cand[k].sy));
+                                    _mm_set_pd(shy[cand[k + 1].k], shy[cand[k].k]));
       const __m128d dx = _mm_sub_pd(ix, jx), dy = _mm_sub_pd(iy, jy);
       const __m128d dvx = _mm_sub_pd(ivx, vx), dvy = _mm_sub_pd(ivy, vy);
       const __m128d sigma = _mm_add_pd(ir, _mm_set_pd(q.r, p.r));
@@ -476,8 +492,8 @@ private:
     for (; k < n; ++k) {
       const Disk& dj = disk[cand[k].j];
       const double dt = now - dj.t;
-      const double t = pair_collision_time_branchless(di.x - (dj.x + dj.vx * dt + cand[k].sx),
-                                                      di.y - (dj.y + dj.vy * dt + cand[k].sy),
+      const double t = pair_collision_time_branchless(di.x - (dj.x + dj.vx * dt + shx[cand[k].k]),
+                                                      di.y - (dj.y + dj.vy * dt + shy[cand[k].k]),
                                                       di.vx - dj.vx, di.vy - dj.vy, di.r + dj.r);
       if (t < best) {
         best = t;
@@ -519,19 +535,25 @@ private:
     int who = -1;
     EventKind kind = EventKind::None;
     int cells[9];
-    double shx[9], shy[9];
+    double shx[9] = {}, shy[9] = {};
     int nc = 0;
-    for (int ky = -1; ky <= 1; ++ky) {
-      int cy = iy + ky;
-      double sy = 0.0;
-      if (!wrap(cy, g.ny(), g.periodic_y(), g.ly(), sy)) continue;
-      for (int kx = -1; kx <= 1; ++kx) {
-        int cx = ix + kx;
-        double sx = 0.0;
-        if (!wrap(cx, g.nx(), g.periodic_x(), g.lx(), sx)) continue;
-        cells[nc] = g.index(cx, cy);
-        shx[nc] = sx;
-        shy[nc++] = sy;
+    if (ix > 0 && ix + 1 < g.nx() && iy > 0 && iy + 1 < g.ny()) {
+      // Away from the edges (nearly always): the 3×3 block in the same order, no images.
+      for (int ky = -1; ky <= 1; ++ky)
+        for (int kx = -1; kx <= 1; ++kx) cells[nc++] = c + ky * g.nx() + kx;
+    } else {
+      for (int ky = -1; ky <= 1; ++ky) {
+        int cy = iy + ky;
+        double sy = 0.0;
+        if (!wrap(cy, g.ny(), g.periodic_y(), g.ly(), sy)) continue;
+        for (int kx = -1; kx <= 1; ++kx) {
+          int cx = ix + kx;
+          double sx = 0.0;
+          if (!wrap(cx, g.nx(), g.periodic_x(), g.lx(), sx)) continue;
+          cells[nc] = g.index(cx, cy);
+          shx[nc] = sx;
+          shy[nc++] = sy;
+        }
       }
     }
     scan_cells(i, di, cells, shx, shy, nc, best, who, kind);
@@ -569,8 +591,8 @@ private:
   }
 
   struct Candidate {
-    double sx, sy;
-    int j;
+    int j;  // disk
+    int k;  // its cell's place in the scanned list (image shift shx[k], shy[k])
   };
 
   SystemState& s_;

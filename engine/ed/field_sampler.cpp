@@ -45,7 +45,7 @@ void FieldSampler::action(SystemState& s) {
     if (g.periodic_x()) p.x() -= g.lx() * std::floor(p.x() / g.lx());
     if (g.periodic_y()) p.y() -= g.ly() * std::floor(p.y() / g.ly());
     const Disk& d = s.disk[i];
-    acc_.deposit({p.x(), p.y(), 0.0}, {d.vx, d.vy, 0.0}, d.r, s.mass[i]);
+    acc_.deposit({p.x(), p.y(), 0.0}, {d.vx, d.vy, 0.0}, d.r, s.disk[i].m);
   }
   acc_.end_frame();
   if (k_ % per_exposure_ == 0) {

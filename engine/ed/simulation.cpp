@@ -85,15 +85,11 @@ void Simulation::build(std::vector<DiskInit> disks) {
                      n > 0 ? dmin : 1.0);
   s_.rule = CollisionParams{cfg_.e, cfg_.e_t, cfg_.mu, 0.5};
   s_.disk.resize(n);
-  s_.mass.resize(n);
-  s_.omega.resize(n);
   s_.counter.assign(n, 0);
   s_.grid.resize_particles(n);
   for (int i = 0; i < n; ++i) {
     const DiskInit& d = disks[i];
-    s_.disk[i] = Disk{d.r.x(), d.r.y(), d.v.x(), d.v.y(), 0.0, d.radius};
-    s_.mass[i] = d.mass;
-    s_.omega[i] = d.omega;
+    s_.disk[i] = Disk{d.r.x(), d.r.y(), d.v.x(), d.v.y(), 0.0, d.radius, d.mass, d.omega};
     s_.grid.insert(i, s_.grid.cell_of_point(d.r.x(), d.r.y()));
   }
   s_.reset_slots();
@@ -139,14 +135,10 @@ void Simulation::compact(const std::vector<int>& kept) {
   for (int k = 0; k < n; ++k) {
     const int i = kept[k];
     s_.disk[k] = s_.disk[i];
-    s_.mass[k] = s_.mass[i];
-    s_.omega[k] = s_.omega[i];
     s_.counter[k] = s_.counter[i];
     states[k] = s_.slot[i];
   }
   s_.disk.resize(n);
-  s_.mass.resize(n);
-  s_.omega.resize(n);
   s_.counter.resize(n);
   s_.grid = CellGrid(s_.grid.lx(), s_.grid.ly(), s_.grid.periodic_x(), s_.grid.periodic_y(),
                      cfg_.min_cell_size, std::max(1e-12, [&] {
@@ -201,7 +193,7 @@ double Simulation::kinetic_energy() const {
   for (int i = 0; i < s_.size(); ++i) {
     if (s_.slot[i] != SlotState::present) continue;
     const Disk& d = s_.disk[i];
-    k += 0.5 * s_.mass[i] * (d.vx * d.vx + d.vy * d.vy) + 0.5 * s_.inertia(i) * s_.omega[i] * s_.omega[i];
+    k += 0.5 * s_.disk[i].m * (d.vx * d.vx + d.vy * d.vy) + 0.5 * s_.inertia(i) * s_.disk[i].w * s_.disk[i].w;
   }
   return k;
 }
@@ -209,7 +201,7 @@ double Simulation::kinetic_energy() const {
 Vec2 Simulation::momentum() const {
   Vec2 p{0.0, 0.0};
   for (int i = 0; i < s_.size(); ++i)
-    if (s_.slot[i] == SlotState::present) p += s_.mass[i] * Vec2{s_.disk[i].vx, s_.disk[i].vy};
+    if (s_.slot[i] == SlotState::present) p += s_.disk[i].m * Vec2{s_.disk[i].vx, s_.disk[i].vy};
   return p;
 }
 
@@ -250,7 +242,7 @@ double Simulation::min_gap() const {
 
 std::size_t Simulation::memory_bytes() const {
   const std::size_t n = s_.disk.capacity();
-  const std::size_t per = sizeof(Disk) + 8 /*mass*/ + 8 /*omega*/ + 4 /*counter*/ + 8 /*key*/ +
+  const std::size_t per = sizeof(Disk) + 4 /*counter*/ + 8 /*key*/ +
                           sizeof(NextEvent) + 1 /*slot*/;
   return n * per + s_.grid.memory_bytes() + loop_->calendar_bytes();
 }

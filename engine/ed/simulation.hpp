@@ -65,7 +65,7 @@ public:
   int count() const { return s_.count(); }   // disks present
   bool present(int i) const { return s_.present(i); }
   const std::vector<Disk>& disks() const { return s_.disk; }  // each at its own time t
-  const std::vector<double>& omega() const { return s_.omega; }
+  double omega(int i) const { return s_.disk[i].w; }  // ω_z of disk i
   const SystemState& state() const { return s_; }
   SystemState& state() { return s_; }
   const Config& config() const { return cfg_; }

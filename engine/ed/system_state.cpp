@@ -9,7 +9,7 @@
 
 namespace grainflow::ed {
 
-void SystemState::set_velocity(int i, double vx, double vy) { set_velocity(i, vx, vy, omega[i]); }
+void SystemState::set_velocity(int i, double vx, double vy) { set_velocity(i, vx, vy, disk[i].w); }
 
 void SystemState::set_velocity(int i, double vx, double vy, double w) {
   synchronise(i);
@@ -17,19 +17,19 @@ void SystemState::set_velocity(int i, double vx, double vy, double w) {
   if (slot[i] == SlotState::frozen) {  // a moving wall: outside the books
     d.vx = vx;
     d.vy = vy;
-    omega[i] = w;
+    disk[i].w = w;
     ++counter[i];
     touched_.push_back(i);
     return;
   }
-  const double m = mass[i];
+  const double m = disk[i].m;
   kin_ += 0.5 * m * (vx * vx + vy * vy - d.vx * d.vx - d.vy * d.vy);
-  rot_ += 0.5 * inertia(i) * (w * w - omega[i] * omega[i]);
+  rot_ += 0.5 * inertia(i) * (w * w - disk[i].w * disk[i].w);
   px_ += m * (vx - d.vx);
   py_ += m * (vy - d.vy);
   d.vx = vx;
   d.vy = vy;
-  omega[i] = w;
+  disk[i].w = w;
   ++counter[i];
   touched_.push_back(i);
 }
@@ -39,11 +39,11 @@ void SystemState::recompute_books() {
   for (int i = 0; i < size(); ++i) {
     if (slot[i] != SlotState::present) continue;
     const Disk& d = disk[i];
-    kin_ += 0.5 * mass[i] * (d.vx * d.vx + d.vy * d.vy);
-    rot_ += 0.5 * inertia(i) * omega[i] * omega[i];
-    px_ += mass[i] * d.vx;
-    py_ += mass[i] * d.vy;
-    mtot_ += mass[i];
+    kin_ += 0.5 * disk[i].m * (d.vx * d.vx + d.vy * d.vy);
+    rot_ += 0.5 * inertia(i) * disk[i].w * disk[i].w;
+    px_ += disk[i].m * d.vx;
+    py_ += disk[i].m * d.vy;
+    mtot_ += disk[i].m;
   }
 }
 
@@ -75,9 +75,9 @@ void SystemState::reset_slots(std::vector<SlotState> states) {
 
 void SystemState::add_books(int i, double sign) {
   const Disk& d = disk[i];
-  const double m = mass[i];
+  const double m = disk[i].m;
   kin_ += sign * 0.5 * m * (d.vx * d.vx + d.vy * d.vy);
-  rot_ += sign * 0.5 * inertia(i) * omega[i] * omega[i];
+  rot_ += sign * 0.5 * inertia(i) * disk[i].w * disk[i].w;
   px_ += sign * m * d.vx;
   py_ += sign * m * d.vy;
   mtot_ += sign * m;
@@ -86,9 +86,7 @@ void SystemState::add_books(int i, double sign) {
 void SystemState::grow() {
   const int n = size();
   const int n1 = n + std::max(64, n / 4);
-  disk.resize(n1, Disk{0.0, 0.0, 0.0, 0.0, 0.0, 0.0});
-  mass.resize(n1, 0.0);
-  omega.resize(n1, 0.0);
+  disk.resize(n1, Disk{});
   counter.resize(n1, 0u);
   slot.resize(n1, SlotState::absent);
   grid.grow_particles(n1);
@@ -114,9 +112,7 @@ int SystemState::add_disk(const DiskInit& in) {
   if (free_.empty()) grow();
   const int i = free_.back();
   free_.pop_back();
-  disk[i] = Disk{x, y, in.v.x(), in.v.y(), now_, in.radius};
-  mass[i] = in.mass;
-  omega[i] = in.omega;
+  disk[i] = Disk{x, y, in.v.x(), in.v.y(), now_, in.radius, in.mass, in.omega};
   ++counter[i];  // predictions that named this slot's former disk are stale
   slot[i] = SlotState::present;
   ++n_present_;
@@ -157,7 +153,7 @@ void SystemState::freeze(int i, double vx, double vy) {
   Disk& d = disk[i];
   d.vx = vx;
   d.vy = vy;
-  omega[i] = 0.0;  // a translating wall: no spin enters a rough collision
+  disk[i].w = 0.0;  // a translating wall: no spin enters a rough collision
   ++counter[i];
   touched_.push_back(i);
 }

@@ -19,9 +19,11 @@ namespace grainflow::ed {
 // What a slot of the disk arrays holds (open stream boundaries, seed 003 §3.2–3.3).
 enum class SlotState : std::uint8_t { absent = 0, present = 1, frozen = 2 };
 
-// Hot per-disk data, one cache line: position and velocity valid at the disk's own time t.
-struct Disk {
-  double x, y, vx, vy, t, r;
+// Hot per-disk data, one cache line: position and velocity valid at the disk's own time t,
+// radius, mass m and spin ω_z (rough disks). A collision reads both parties' lines and
+// nothing else per disk; a neighbourhood scan reads one line per candidate.
+struct alignas(64) Disk {
+  double x = 0.0, y = 0.0, vx = 0.0, vy = 0.0, t = 0.0, r = 0.0, m = 0.0, w = 0.0;
 };
 
 // What a disk's scheduled non-crossing event is.
@@ -43,7 +45,6 @@ class SystemState {
 public:
   // ---- disks -------------------------------------------------------------------------
   std::vector<Disk> disk;
-  std::vector<double> mass, omega;     // ω_z (rough disks)
   std::vector<std::uint32_t> counter;  // bumped whenever the disk's velocity changes (or it comes/goes)
   std::vector<SlotState> slot;
   int size() const { return static_cast<int>(disk.size()); }
@@ -107,7 +108,7 @@ public:
     const double dt = now_ - d.t;
     return {d.x + d.vx * dt, d.y + d.vy * dt};
   }
-  double inertia(int i) const { return rule.q * mass[i] * disk[i].r * disk[i].r; }
+  double inertia(int i) const { return rule.q * disk[i].m * disk[i].r * disk[i].r; }
 
   // The way agents change a disk's velocity: keeps energy/momentum books and counters
   // right and asks the loop to re-predict the disk. Synchronises the disk first.

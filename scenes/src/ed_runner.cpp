@@ -127,7 +127,7 @@ public:
       if (colour_by == "speed") v = std::hypot(d.vx, d.vy);
       else if (colour_by == "vx") v = d.vx;
       else if (colour_by == "vy") v = d.vy;
-      else if (colour_by == "spin") v = sim_.omega().empty() ? 0.0 : sim_.omega()[i];
+      else if (colour_by == "spin") v = sim_.omega(i);
       else if (colour_by == "height") v = d.y;
       else throw Error("render.color_by = \"" + colour_by +
                        "\" is not available for ED disks; allowed: uniform, speed, vx, vy, spin, height");
@@ -190,7 +190,7 @@ public:
       if (!sim_.present(i)) continue;
       const ed::Disk& d = disks[i];
       dg.add(std::uint64_t(i));
-      for (double v : {d.x, d.y, d.vx, d.vy, d.t, sim_.omega().empty() ? 0.0 : sim_.omega()[i]}) dg.add(v);
+      for (double v : {d.x, d.y, d.vx, d.vy, d.t, sim_.omega(i)}) dg.add(v);
     }
     return dg.hex();
   }
