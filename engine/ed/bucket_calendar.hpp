@@ -10,6 +10,7 @@
 #include <limits>
 #include <vector>
 
+#include "engine/ed/calendar_keys.hpp"
 #include "engine/ed/cell_grid.hpp"
 #include "engine/ed/huge_pages.hpp"
 
@@ -23,7 +24,7 @@ public:
   explicit BucketCalendar(double events_per_bucket = 2.0, double span = 8.0)
       : per_bucket_(events_per_bucket), span_(span) {}
 
-  void reset(const double* key, const CellGrid* /*grid*/, int n_disks, int n_timers) {
+  void reset(CalendarKeys key, const CellGrid* /*grid*/, int n_disks, int n_timers) {
     key_ = key;
     ne_ = n_disks + n_timers;
     nb_ = std::max<std::int64_t>(64, static_cast<std::int64_t>(span_ * ne_ / per_bucket_));
@@ -87,7 +88,7 @@ public:
       const int e = head_[cur_ + 1 - w0_];
       if (e >= 0) {
         __builtin_prefetch(&link_[e]);
-        __builtin_prefetch(key_ + e);
+        __builtin_prefetch(key_.at(e));
         f(e);
       }
     }
@@ -103,7 +104,7 @@ public:
     int e = head_[slot];
     for (int q = 0; e >= 0 && q < max; ++q) {
       __builtin_prefetch(&link_[e]);
-      __builtin_prefetch(key_ + e);
+      __builtin_prefetch(key_.at(e));
       f(e);
       if (q + 1 < max) e = link_[e].next;
     }
@@ -237,7 +238,7 @@ private:
   }
 
   double per_bucket_, span_;
-  const double* key_ = nullptr;
+  CalendarKeys key_;
   int ne_ = 0;
   std::int64_t nb_ = 0, cur_ = 0, w0_ = 0, n_listed_ = 0;
   double dt_ = 0.0, inv_dt_ = 0.0;

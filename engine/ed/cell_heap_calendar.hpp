@@ -6,6 +6,7 @@
 #include <limits>
 #include <vector>
 
+#include "engine/ed/calendar_keys.hpp"
 #include "engine/ed/cell_grid.hpp"
 #include "engine/ed/huge_pages.hpp"
 
@@ -16,8 +17,8 @@ public:
   static constexpr const char* kName = "cell_heap";
 
   // key[e] is the absolute time of entry e's next event: disks are entries 0..n_disks-1,
-  // timer agents n_disks..n_disks+n_timers-1. The calendar reads keys, never writes them.
-  void reset(const double* key, const CellGrid* grid, int n_disks, int n_timers) {
+  // timer agents n_disks..n_disks+n_timers-1 (calendar_keys.hpp).
+  void reset(CalendarKeys key, const CellGrid* grid, int n_disks, int n_timers) {
     key_ = key;
     grid_ = grid;
     nd_ = n_disks;
@@ -133,7 +134,7 @@ private:
     pos_[n] = p;
   }
 
-  const double* key_ = nullptr;
+  CalendarKeys key_;
   const CellGrid* grid_ = nullptr;
   int nd_ = 0, nc_ = 0;
   std::vector<double> bt_;  // best time per node

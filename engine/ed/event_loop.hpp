@@ -48,8 +48,8 @@ public:
       if (s_.present(i)) predict_full(i);
     s_.clear_changes();
     s_.clear_touched();
-    for (int a = 0; a < nt; ++a) s_.key[n + a] = std::max(s_.now(), s_.timers[a]->event_time(s_));
-    cal_.reset(s_.key.data(), &s_.grid, n, nt);
+    for (int a = 0; a < nt; ++a) s_.event[n + a].key = std::max(s_.now(), s_.timers[a]->event_time(s_));
+    cal_.reset(s_.calendar_keys(), &s_.grid, n, nt);
     advise_memory();
   }
 
@@ -57,7 +57,7 @@ public:
     settle_outside_actions();
     for (;;) {
       const int e = cal_.top();
-      if (e < 0 || s_.key[e] > t) break;
+      if (e < 0 || s_.event[e].key > t) break;
       process(e);
     }
     s_.advance_clock(t);
@@ -76,7 +76,7 @@ public:
 
   double next_event_time() override {
     const int e = cal_.top();
-    return e < 0 ? kNever : s_.key[e];
+    return e < 0 ? kNever : s_.event[e].key;
   }
   std::size_t calendar_bytes() const override { return cal_.memory_bytes(); }
   const char* calendar_name() const override { return Calendar::kName; }
@@ -86,7 +86,6 @@ private:
   void advise_memory() const {
     advise_huge_pages(s_.disk);
     advise_huge_pages(s_.event);
-    advise_huge_pages(s_.key);
     advise_huge_pages(s_.counter);
     s_.grid.advise_huge_pages();
     cal_.advise_huge_pages();
@@ -134,7 +133,7 @@ private:
 
   void process(int e) {
     ++s_.stats.events;
-    s_.advance_clock(s_.key[e]);
+    s_.advance_clock(s_.event[e].key);
     const int n = s_.size();
     // Software pipelining: the memory of the coming events is fetched in stages while this
     // one runs (see prefetch_entry … prefetch_partner_neighbourhood), and this event's own
@@ -146,7 +145,7 @@ private:
     if (e < n) s_.grid.prefetch_block(s_.grid.cell(e));
     if (e >= n) {
       timer_event(e - n);
-    } else if (s_.event[e].cross_time <= s_.event[e].pair_time) {
+    } else if (s_.event[e].crossing) {
       crossing(e);
     } else if (s_.event[e].kind == EventKind::Pair) {
       const int j = s_.event[e].partner;
@@ -267,8 +266,7 @@ private:
       scan_cells(i, di, cells, shx, shy, nc, best, who, kind);
       scan_agents(i, to, best, who, kind);
       if (best < held) store_pair(i, best, who, kind);  // else keep the held event bit-exact
-      crossing_time(i);
-      s_.key[i] = std::min(ev.pair_time, ev.cross_time);
+      schedule(i);
     }
     cal_.update(i);
   }
@@ -291,7 +289,7 @@ private:
     ag.action(s_);
     settle_changes();
     const int e = s_.size() + a;  // after settle_changes: the slots may have grown
-    s_.key[e] = std::max(s_.now(), ag.event_time(s_));
+    s_.event[e].key = std::max(s_.now(), ag.event_time(s_));
     cal_.update(e);
     repredict_touched(-1);
   }
@@ -320,7 +318,7 @@ private:
   // did not know the newcomer.
   void settle_changes() {
     if (s_.grown()) {
-      cal_.reset(s_.key.data(), &s_.grid, s_.size(), static_cast<int>(s_.timers.size()));
+      cal_.reset(s_.calendar_keys(), &s_.grid, s_.size(), static_cast<int>(s_.timers.size()));
       advise_memory();  // the slot arrays were reallocated
     }
     for (const SystemState::Removal& r : s_.removed()) cal_.removed(r.id, r.cell);
@@ -559,13 +557,14 @@ private:
     scan_cells(i, di, cells, shx, shy, nc, best, who, kind);
     scan_agents(i, c, best, who, kind);
     store_pair(i, best, who, kind);
-    crossing_time(i);
-    s_.key[i] = std::min(s_.event[i].pair_time, s_.event[i].cross_time);
+    schedule(i);
   }
 
-  // Next crossing of a wall of the disk's own cell (the cell index is authoritative; the
-  // position may sit an ulp outside after round-off, hence the clamp at zero).
-  void crossing_time(int i) {
+  // Sets disk i's calendar key to the earlier of its pair event (already stored) and the
+  // next crossing of a wall of its own cell (the cell index is authoritative; the position
+  // may sit an ulp outside after round-off, hence the clamp at zero). A tie goes to the
+  // crossing.
+  void schedule(int i) {
     const CellGrid& g = s_.grid;
     const Disk& d = s_.disk[i];
     const int c = g.cell(i);
@@ -586,8 +585,11 @@ private:
     }
     const bool use_x = tx <= ty;
     const double t = std::max(0.0, use_x ? tx : ty);
-    s_.event[i].cross_time = s_.now() + t;
-    s_.event[i].cross_dir = use_x ? dx : dy;
+    const double cross_time = s_.now() + t;
+    NextEvent& ev = s_.event[i];
+    ev.cross_dir = use_x ? dx : dy;
+    ev.crossing = cross_time <= ev.pair_time;
+    ev.key = std::min(ev.pair_time, cross_time);
   }
 
   struct Candidate {

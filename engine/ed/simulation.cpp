@@ -242,7 +242,7 @@ double Simulation::min_gap() const {
 
 std::size_t Simulation::memory_bytes() const {
   const std::size_t n = s_.disk.capacity();
-  const std::size_t per = sizeof(Disk) + 4 /*counter*/ + 8 /*key*/ +
+  const std::size_t per = sizeof(Disk) + 4 /*counter*/ +
                           sizeof(NextEvent) + 1 /*slot*/;
   return n * per + s_.grid.memory_bytes() + loop_->calendar_bytes();
 }

@@ -71,6 +71,8 @@ void SystemState::reset_slots(std::vector<SlotState> states) {
   n_frozen_ = static_cast<int>(std::count(slot.begin(), slot.end(), SlotState::frozen));
   free_.clear();
   clear_changes();
+  event.clear();  // the slots changed wholesale: the loop starts afresh
+  events_ready_ = false;
 }
 
 void SystemState::add_books(int i, double sign) {
@@ -91,9 +93,8 @@ void SystemState::grow() {
   slot.resize(n1, SlotState::absent);
   grid.grow_particles(n1);
   // Prediction arrays exist once the loop has started; timer keys follow the disk slots.
-  if (static_cast<int>(event.size()) == n) {
-    key.insert(key.begin() + n, static_cast<std::size_t>(n1 - n), kNever);
-    event.resize(n1, NextEvent{});
+  if (events_ready_) {
+    event.insert(event.begin() + n, static_cast<std::size_t>(n1 - n), NextEvent{});
     grown_ = true;
   }
   for (int i = n1 - 1; i >= n; --i) free_.push_back(i);  // lowest id first
@@ -133,10 +134,7 @@ void SystemState::remove_disk(int i) {
   slot[i] = SlotState::absent;
   --n_present_;
   ++counter[i];  // partners' predictions with it become stale: no collision with the ghost
-  if (static_cast<int>(event.size()) == size()) {
-    key[i] = event[i].pair_time = event[i].cross_time = kNever;
-    event[i].kind = EventKind::None;
-  }
+  if (events_ready_) event[i] = NextEvent{};
   free_.push_back(i);
   ++stats.removed;
   removed_.push_back({i, c});

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "engine/core/vec.hpp"
+#include "engine/ed/calendar_keys.hpp"
 #include "engine/ed/cell_grid.hpp"
 #include "engine/ed/collision_rule.hpp"
 #include "engine/ed/event_source.hpp"
@@ -29,16 +30,20 @@ struct alignas(64) Disk {
 // What a disk's scheduled non-crossing event is.
 enum class EventKind : std::uint8_t { None = 0, Pair = 1, Agent = 2 };
 
-// A disk's scheduled events, everything the loop reads when the disk's turn comes, packed
-// in 32 bytes so that it costs one cache miss, not one per field (at N ≳ 10^5 the loop
-// waits on memory, not arithmetic).
+// A calendar entry's scheduled event, everything the loop reads when the entry's turn
+// comes, packed in 32 bytes so that it costs one cache miss, not one per field (at
+// N ≳ 10^5 the loop waits on memory, not arithmetic). A disk has two candidate events,
+// its earliest pair (or agent) event and its next cell-wall crossing; key is the earlier
+// of the two. The crossing's time is not kept when the pair event comes first: whatever
+// that event does, the disk is predicted afresh. A timer agent's entry uses key only.
 struct alignas(32) NextEvent {
+  double key = kNever;               // calendar key: when the entry's next event happens
   double pair_time = kNever;         // earliest disk–disk or agent event
-  double cross_time = kNever;        // next cell-wall crossing
   std::int32_t partner = -1;         // disk id (Pair) or agent id (Agent)
   std::uint32_t partner_count = 0;   // partner's counter when predicted (Pair)
   EventKind kind = EventKind::None;
   std::uint8_t cross_dir = 0;        // 0 +x, 1 −x, 2 +y, 3 −y
+  bool crossing = false;             // the key is a cell-wall crossing (else pair_time)
 };
 
 class SystemState {
@@ -72,14 +77,14 @@ public:
   // the given states (one per slot, none absent).
   void reset_slots(std::vector<SlotState> states = {});
 
-  // ---- next event per disk (plus one key per timer agent after the disks) ------------
-  std::vector<double> key;        // calendar key: min(pair_time, cross_time) or timer time
-  std::vector<NextEvent> event;   // per disk, one record (one cache line) for the loop
-  // Sizes key and event for n disks and n_timers timers, every event unscheduled.
+  // ---- next event per calendar entry: the disks, then one per timer agent -------------
+  std::vector<NextEvent> event;
+  // Sizes event for n disks and n_timers timers, every event unscheduled.
   void reset_events(int n, int n_timers) {
-    key.assign(static_cast<std::size_t>(n) + static_cast<std::size_t>(n_timers), kNever);
-    event.assign(static_cast<std::size_t>(n), NextEvent{});
+    event.assign(static_cast<std::size_t>(n) + static_cast<std::size_t>(n_timers), NextEvent{});
+    events_ready_ = true;
   }
+  CalendarKeys calendar_keys() const { return {&event.data()->key, sizeof(NextEvent) / sizeof(double)}; }
 
   CellGrid grid;
   CollisionParams rule;
@@ -178,6 +183,7 @@ private:
   std::vector<int> touched_, free_, added_;
   std::vector<Removal> removed_;
   bool grown_ = false;
+  bool events_ready_ = false;  // the loop has started: event holds an entry per slot and timer
 };
 
 }  // namespace grainflow::ed
