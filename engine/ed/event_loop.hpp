@@ -86,7 +86,6 @@ private:
   void advise_memory() const {
     advise_huge_pages(s_.disk);
     advise_huge_pages(s_.event);
-    advise_huge_pages(s_.counter);
     s_.grid.advise_huge_pages();
     cal_.advise_huge_pages();
   }
@@ -111,7 +110,6 @@ private:
     const NextEvent& ev = s_.event[e];
     if (ev.kind == EventKind::Pair) {
       prefetch_disk(ev.partner);
-      __builtin_prefetch(&s_.counter[ev.partner]);
       __builtin_prefetch(&s_.event[ev.partner]);
       s_.grid.prefetch_cell_of(ev.partner);
     }
@@ -149,7 +147,7 @@ private:
       crossing(e);
     } else if (s_.event[e].kind == EventKind::Pair) {
       const int j = s_.event[e].partner;
-      if (s_.counter[j] != s_.event[e].partner_count) {
+      if (s_.event[j].counter != s_.event[e].partner_count) {
         ++s_.stats.stale;
         predict_full(e);
         cal_.update(e);
@@ -193,8 +191,8 @@ private:
     s_.stats.virial += rx * J.jx + ry * J.jy;
     ++s_.stats.collisions;
     if (J.sliding) ++s_.stats.sliding;
-    ++s_.counter[i];
-    ++s_.counter[j];
+    ++s_.event[i].counter;
+    ++s_.event[j].counter;
     if (on_collision) on_collision(CollisionRecord{i, j, s_.now()});
     // A heap-based calendar must see each key change before the next one (an entry whose
     // key changed but is not yet re-sifted would mislead the other's sift).
@@ -223,7 +221,7 @@ private:
     g.insert(i, to);
     cal_.moved(i, from, to);
     const NextEvent& ev = s_.event[i];
-    if (ev.kind == EventKind::Pair && s_.counter[ev.partner] != ev.partner_count) {
+    if (ev.kind == EventKind::Pair && s_.event[ev.partner].counter != ev.partner_count) {
       predict_full(i);  // the remembered partner changed: the old neighbourhood must be rescanned
     } else {
       // The best event in the old neighbourhood still holds; only the newly adjacent row of
@@ -380,7 +378,7 @@ private:
       s_.stats.virial += rx * J.jx + ry * J.jy;
       ++s_.stats.collisions;
       if (J.sliding) ++s_.stats.sliding;
-      ++s_.counter[i];
+      ++s_.event[i].counter;
       if (on_collision) on_collision(CollisionRecord{i, j, s_.now()});
     } else {
       // Two frozen disks only meet when agents froze them at different velocities: equal
@@ -397,8 +395,8 @@ private:
       b.vx -= J.jx;
       b.vy -= J.jy;
       ++s_.stats.collisions;
-      ++s_.counter[i];
-      ++s_.counter[j];
+      ++s_.event[i].counter;
+      ++s_.event[j].counter;
       if (on_collision) on_collision(CollisionRecord{i, j, s_.now()});
     }
     // j keeps its trajectory; its own event may have named i, so it is predicted again too.
@@ -519,7 +517,7 @@ private:
     ev.pair_time = s_.now() + best;
     ev.partner = who;
     ev.kind = best == kNever ? EventKind::None : kind;
-    ev.partner_count = kind == EventKind::Pair ? s_.counter[who] : 0u;
+    ev.partner_count = kind == EventKind::Pair ? s_.event[who].counter : 0u;
   }
 
   // Full prediction for disk i over its 3×3 neighbourhood (§2.2) and its cell's agents.

@@ -41,6 +41,8 @@ struct alignas(32) NextEvent {
   double pair_time = kNever;         // earliest disk–disk or agent event
   std::int32_t partner = -1;         // disk id (Pair) or agent id (Agent)
   std::uint32_t partner_count = 0;   // partner's counter when predicted (Pair)
+  std::uint32_t counter = 0;         // the disk's own: bumped whenever its velocity changes (or it
+                                     // comes/goes), so that events naming it turn stale
   EventKind kind = EventKind::None;
   std::uint8_t cross_dir = 0;        // 0 +x, 1 −x, 2 +y, 3 −y
   bool crossing = false;             // the key is a cell-wall crossing (else pair_time)
@@ -50,7 +52,6 @@ class SystemState {
 public:
   // ---- disks -------------------------------------------------------------------------
   std::vector<Disk> disk;
-  std::vector<std::uint32_t> counter;  // bumped whenever the disk's velocity changes (or it comes/goes)
   std::vector<SlotState> slot;
   int size() const { return static_cast<int>(disk.size()); }
 
@@ -83,6 +84,11 @@ public:
   void reset_events(int n, int n_timers) {
     event.assign(static_cast<std::size_t>(n) + static_cast<std::size_t>(n_timers), NextEvent{});
     events_ready_ = true;
+  }
+  // Marks every scheduled event that names disk i as stale (its counter, NextEvent::counter,
+  // moves on). Before the loop starts there are no events to mark.
+  void bump(int i) {
+    if (events_ready_) ++event[i].counter;
   }
   CalendarKeys calendar_keys() const { return {&event.data()->key, sizeof(NextEvent) / sizeof(double)}; }
 
