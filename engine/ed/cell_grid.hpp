@@ -61,6 +61,8 @@ public:
     cell_[i] = -1;
   }
   int count(int c) const { return slots_[static_cast<std::size_t>(c) * stride_]; }
+  // Cell c's slot block: the count, then the members.
+  const std::int32_t* cell_slots(int c) const { return slots_.data() + static_cast<std::size_t>(c) * stride_; }
   const std::int32_t* members(int c) const { return &slots_[static_cast<std::size_t>(c) * stride_ + 1]; }
   int capacity() const { return cap_; }
   int cell(int i) const { return cell_[i]; }

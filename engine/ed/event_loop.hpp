@@ -430,14 +430,20 @@ private:
     const CellGrid& g = s_.grid;
     const std::size_t need = static_cast<std::size_t>(nc) * static_cast<std::size_t>(g.capacity());
     if (cand_.size() < need) cand_.resize(need);
-    for (int k = 0; k < nc; ++k) __builtin_prefetch(g.members(cells[k]) - 1);
-    const Disk* disk = s_.disk.data();
-    Candidate* cand = cand_.data();
+    // Local pointers: stores into the candidate list cannot alias them, so the loops
+    // below do not reload the grid's fields at every step.
+    const std::int32_t* slot[9];
+    for (int k = 0; k < nc; ++k) {
+      slot[k] = g.cell_slots(cells[k]);
+      __builtin_prefetch(slot[k]);
+    }
+    const Disk* __restrict disk = s_.disk.data();
+    Candidate* __restrict cand = cand_.data();
     int n = 0;
     for (int k = 0; k < nc; ++k) {
-      const std::int32_t* m = g.members(cells[k]);
-      for (int q = 0, cnt = g.count(cells[k]); q < cnt; ++q) {
-        const int j = m[q];
+      const std::int32_t* s = slot[k];
+      for (int q = 1, end = s[0] + 1; q < end; ++q) {
+        const int j = s[q];
         __builtin_prefetch(disk + j);
         cand[n] = Candidate{j, k};
         n += (j != i);
