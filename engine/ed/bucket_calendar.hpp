@@ -110,11 +110,6 @@ public:
     }
   }
 
-  void advise_huge_pages() const {
-    ed::advise_huge_pages(link_);
-    ed::advise_huge_pages(head_);
-  }
-
   double bucket_width() const { return dt_; }
   std::size_t memory_bytes() const {
     return (head_.capacity() + heap_.capacity()) * 4 + link_.capacity() * sizeof(Link);
@@ -247,8 +242,9 @@ private:
   struct alignas(16) Link {
     std::int32_t next = -1, prev = -1, where = kParked, hpos = -1;
   };
-  std::vector<Link> link_;
-  std::vector<int> head_, heap_, scratch_;
+  HugeVector<Link> link_;
+  HugeVector<int> head_;
+  std::vector<int> heap_, scratch_;
 };
 
 }  // namespace grainflow::ed

@@ -6,7 +6,6 @@
 #include <fmt/format.h>
 
 #include "engine/core/error.hpp"
-#include "engine/ed/huge_pages.hpp"
 
 namespace grainflow::ed {
 
@@ -34,12 +33,6 @@ CellGrid::CellGrid(double lx, double ly, bool periodic_x, bool periodic_y, doubl
 void CellGrid::overflow(int c) const {
   throw Error(fmt::format("ed: cell ({}, {}) would hold more than {} disks, which only overlapping "
                           "disks can do; check the initial positions", ix(c), iy(c), cap_));
-}
-
-void CellGrid::advise_huge_pages() const {
-  ed::advise_huge_pages(slots_);
-  ed::advise_huge_pages(cell_);
-  ed::advise_huge_pages(pos_);
 }
 
 int CellGrid::cell_of_point(double x, double y) const {

@@ -5,6 +5,8 @@
 #include <cstdint>
 #include <vector>
 
+#include "engine/ed/huge_pages.hpp"
+
 namespace grainflow::ed {
 
 class CellGrid {
@@ -91,7 +93,6 @@ public:
         for (int q = 1; q <= s[0]; ++q) f(s[q]);
       }
   }
-  void advise_huge_pages() const;  // see huge_pages.hpp
   std::size_t memory_bytes() const { return (slots_.capacity() + cell_.capacity() + pos_.capacity()) * 4; }
 
 private:
@@ -100,7 +101,7 @@ private:
   bool px_ = false, py_ = false;
   void overflow(int c) const;  // throws: only overlapping disks can overfill a cell
   int cap_ = 0, stride_ = 1;
-  std::vector<std::int32_t> slots_, cell_, pos_;
+  HugeVector<std::int32_t> slots_, cell_, pos_;
 };
 
 }  // namespace grainflow::ed

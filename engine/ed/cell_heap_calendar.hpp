@@ -64,12 +64,6 @@ public:
     for (std::size_t k = 1; k <= 2 && k < h; ++k)
       if (bt_[heap_[k]] != kInf) f(be_[heap_[k]]);
   }
-  void advise_huge_pages() const {
-    ed::advise_huge_pages(bt_);
-    ed::advise_huge_pages(be_);
-    ed::advise_huge_pages(heap_);
-    ed::advise_huge_pages(pos_);
-  }
   // No bucket structure: nothing further ahead to offer the loop's pipeline.
   template <class F>
   void peek_bucket(int, int, F&&) const {}
@@ -137,9 +131,9 @@ private:
   CalendarKeys key_;
   const CellGrid* grid_ = nullptr;
   int nd_ = 0, nc_ = 0;
-  std::vector<double> bt_;  // best time per node
-  std::vector<int> be_;     // best entry per node
-  std::vector<int> heap_, pos_;
+  HugeVector<double> bt_;  // best time per node
+  HugeVector<int> be_;     // best entry per node
+  HugeVector<int> heap_, pos_;
   std::vector<std::uint8_t> dirty_flag_;
   std::vector<int> dirty_;
 };

@@ -9,7 +9,6 @@
 #include <functional>
 #include <vector>
 
-#include "engine/ed/huge_pages.hpp"
 #include "engine/ed/system_state.hpp"
 
 namespace grainflow::ed {
@@ -50,7 +49,6 @@ public:
     s_.clear_touched();
     for (int a = 0; a < nt; ++a) s_.event[n + a].key = std::max(s_.now(), s_.timers[a]->event_time(s_));
     cal_.reset(s_.calendar_keys(), &s_.grid, n, nt);
-    advise_memory();
   }
 
   void run_until(double t) override {
@@ -82,14 +80,6 @@ public:
   const char* calendar_name() const override { return Calendar::kName; }
 
 private:
-  // Huge-page advice for the arrays the loop touches at random (a hint: see huge_pages.hpp).
-  void advise_memory() const {
-    advise_huge_pages(s_.disk);
-    advise_huge_pages(s_.event);
-    s_.grid.advise_huge_pages();
-    cal_.advise_huge_pages();
-  }
-
   // Cache hints for the entries that will probably come up soon (results never depend on
   // them). At N ≳ 10^5 an event waits on a chain of dependent misses — its own records,
   // then its cells' member slots, then the member disks (and the same for its partner) —
@@ -317,7 +307,6 @@ private:
   void settle_changes() {
     if (s_.grown()) {
       cal_.reset(s_.calendar_keys(), &s_.grid, s_.size(), static_cast<int>(s_.timers.size()));
-      advise_memory();  // the slot arrays were reallocated
     }
     for (const SystemState::Removal& r : s_.removed()) cal_.removed(r.id, r.cell);
     if (!s_.added().empty()) {

@@ -1,9 +1,14 @@
 // Backs the large per-disk arrays of the ED engine with transparent huge pages (seed 003
 // §2.4 performance): the event loop touches them at random, and with 4 KiB pages nearly
-// every access at N ≳ 10^5 also misses the TLB. A hint only: results never depend on it.
+// every access at N ≳ 10^5 also misses the TLB. Arrays of 2 MiB and more are allocated
+// 2 MiB-aligned and advised (MADV_HUGEPAGE) before their first touch, so the kernel can
+// fault them in as huge pages; advising memory that is already in place rarely gets them.
+// A hint only: results never depend on it (without THP the arrays stay on small pages).
 #pragma once
 #include <cstddef>
-#include <cstdint>
+#include <cstdlib>
+#include <memory>
+#include <new>
 #include <vector>
 #if defined(__linux__)
 #include <sys/mman.h>
@@ -11,31 +16,36 @@
 
 namespace grainflow::ed {
 
-// Advises the kernel to use 2 MiB pages for the whole 2 MiB-aligned part of [p, p + bytes)
-// (future faults) and collapses the pages already there. Errors are ignored (old kernels,
-// THP disabled): the arrays then simply stay on small pages.
-inline void advise_huge_pages(const void* p, std::size_t bytes) {
-#if defined(__linux__) && defined(MADV_HUGEPAGE)
-  constexpr std::uintptr_t kHuge = std::uintptr_t{1} << 21;
-  const auto a = reinterpret_cast<std::uintptr_t>(p);
-  const std::uintptr_t lo = (a + kHuge - 1) & ~(kHuge - 1), hi = (a + bytes) & ~(kHuge - 1);
-  if (hi <= lo) return;
-  void* start = reinterpret_cast<void*>(lo);
-  madvise(start, hi - lo, MADV_HUGEPAGE);
-#if defined(MADV_COLLAPSE)
-  madvise(start, hi - lo, MADV_COLLAPSE);
-#else
-  madvise(start, hi - lo, 25);  // MADV_COLLAPSE (Linux ≥ 6.1) where the headers predate it
-#endif
-#else
-  (void)p;
-  (void)bytes;
-#endif
-}
-
 template <class T>
-void advise_huge_pages(const std::vector<T>& v) {
-  advise_huge_pages(v.data(), v.capacity() * sizeof(T));
-}
+struct HugePageAllocator {
+  using value_type = T;
+  static constexpr std::size_t kHuge = std::size_t{1} << 21;
+
+  HugePageAllocator() = default;
+  template <class U>
+  HugePageAllocator(const HugePageAllocator<U>&) noexcept {}
+
+  T* allocate(std::size_t n) {
+    const std::size_t bytes = n * sizeof(T);
+    if (bytes < kHuge) return std::allocator<T>{}.allocate(n);
+    const std::size_t size = (bytes + kHuge - 1) & ~(kHuge - 1);
+    void* p = std::aligned_alloc(kHuge, size);
+    if (!p) throw std::bad_alloc();
+#if defined(__linux__) && defined(MADV_HUGEPAGE)
+    madvise(p, size, MADV_HUGEPAGE);  // errors (THP off, old kernel) leave small pages
+#endif
+    return static_cast<T*>(p);
+  }
+  void deallocate(T* p, std::size_t n) noexcept {
+    if (n * sizeof(T) < kHuge) std::allocator<T>{}.deallocate(p, n);
+    else std::free(p);
+  }
+  template <class U>
+  bool operator==(const HugePageAllocator<U>&) const noexcept { return true; }
+};
+
+// A std::vector whose storage, once large, sits on huge pages.
+template <class T>
+using HugeVector = std::vector<T, HugePageAllocator<T>>;
 
 }  // namespace grainflow::ed

@@ -64,7 +64,7 @@ public:
   int size() const { return s_.size(); }     // disk slots (some may be absent, §3.2–3.3)
   int count() const { return s_.count(); }   // disks present
   bool present(int i) const { return s_.present(i); }
-  const std::vector<Disk>& disks() const { return s_.disk; }  // each at its own time t
+  const HugeVector<Disk>& disks() const { return s_.disk; }  // each at its own time t
   double omega(int i) const { return s_.disk[i].w; }  // ω_z of disk i
   const SystemState& state() const { return s_; }
   SystemState& state() { return s_; }

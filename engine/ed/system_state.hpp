@@ -11,6 +11,7 @@
 #include "engine/ed/cell_grid.hpp"
 #include "engine/ed/collision_rule.hpp"
 #include "engine/ed/event_source.hpp"
+#include "engine/ed/huge_pages.hpp"
 #include "engine/ed/initial_state.hpp"
 #include "engine/ed/pair_collision_time.hpp"
 #include "engine/ed/stats.hpp"
@@ -51,7 +52,7 @@ struct alignas(32) NextEvent {
 class SystemState {
 public:
   // ---- disks -------------------------------------------------------------------------
-  std::vector<Disk> disk;
+  HugeVector<Disk> disk;
   std::vector<SlotState> slot;
   int size() const { return static_cast<int>(disk.size()); }
 
@@ -79,7 +80,7 @@ public:
   void reset_slots(std::vector<SlotState> states = {});
 
   // ---- next event per calendar entry: the disks, then one per timer agent -------------
-  std::vector<NextEvent> event;
+  HugeVector<NextEvent> event;
   // Sizes event for n disks and n_timers timers, every event unscheduled.
   void reset_events(int n, int n_timers) {
     event.assign(static_cast<std::size_t>(n) + static_cast<std::size_t>(n_timers), NextEvent{});
