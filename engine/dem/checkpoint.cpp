@@ -200,10 +200,9 @@ Simulation Simulation::load_checkpoint(const std::filesystem::path& file) {
     throw Error("dem: checkpoint " + file.string() + " is truncated (no end marker)");
   if (s.p_.x.size() != 3 * n || s.p_.f.size() != 3 * n || s.list_.first.size() != n + 1 || s.list_.history_size != s.law_->history_size())
     throw Error("dem: checkpoint " + file.string() + " is inconsistent (array sizes)");
-  // Derived arrays: pair force slots and the reverse index.
-  const std::size_t P = s.list_.partner.size();
-  s.list_.pair_force.assign(6 * P, 0.0);
-  build_reverse_index(s.list_, n);
+  // Derived arrays: owners, reaches and the cross-pair slots (zero: every pair in range
+  // is evaluated again before its slot is read).
+  index_pairs(s.list_, s.p_, s.law_->cohesion_range());
   s.update_wall_near();
   return s;
 }

@@ -24,7 +24,10 @@ struct ForcePass {
   const Box* box = nullptr;
   double* wall_hist = nullptr;          // 6 × history per particle
   std::uint8_t* wall_flags = nullptr;   // 6 per particle (NeighborList::k* bits)
-  const std::uint8_t* wall_near = nullptr;  // per particle: bit w set if wall w may be reached
+  // Walls each particle may reach before the next rebuild: wall_slot[k] = 6 i + w for k in
+  // [wall_first[i], wall_first[i+1]), ascending w (also the index of wall_flags/wall_hist).
+  const std::uint32_t* wall_first = nullptr;
+  const std::uint32_t* wall_slot = nullptr;
   double dt = 0.0;
   bool update = true;                   // false: evaluate only, history untouched
 };
@@ -38,8 +41,9 @@ public:
   // Pair forces of the pairs owned by the particles of one force chunk [i0, i1): sets p->f
   // and p->t (Σ n × F_t) of the chunk's particles, scattering each pair to both members
   // when j lies in the chunk (particle by particle, ascending i, own pairs by ascending j);
-  // pairs whose j lies beyond i1 also go to list->pair_force for the caller to gather
-  // (list->rfirst/rpair) and then multiply the torque sums by R_i.
+  // pairs whose j lies beyond i1 also go to their list->cross_force slot for the caller
+  // to gather (list->rfirst), who then multiplies the torque sums by R_i. Reads particles
+  // i ≥ i0 only (pairs have j > i).
   virtual void pair_pass(const ForcePass& fp, std::size_t i0, std::size_t i1) const = 0;
   // Wall forces of particles [i0, i1), added to p->f / p->t and to wall_sum[w][3].
   virtual void wall_pass(const ForcePass& fp, std::size_t i0, std::size_t i1, double wall_sum[6][3]) const = 0;

@@ -15,6 +15,7 @@ struct HistoryTangential {
   static constexpr int kHistory = 3;  // shear displacement vector [m]
   struct Params {
     double kt = 0, gamma_t = 0, mu = 0;
+    bool operator==(const Params&) const = default;
   };
   static Params make(const ContactParams& p, double m_eff_pair) {
     Params q;
@@ -31,8 +32,9 @@ struct HistoryTangential {
     return q;
   }
   // fn: signed normal force of the normal sub-model; writes the tangential force on i.
-  static void force(const Params& q, const ContactKinematics& k, double fn, double* s, bool update,
-                    double ft[3]) {
+  // Always inlined: in the contact lanes it must become part of the SIMD loop.
+  [[gnu::always_inline]] static void force(const Params& q, const ContactKinematics& k, double fn, double* s,
+                                           bool update, double ft[3]) {
     const double* n = k.n;
     const double* vt = k.vt;
     if (update) {
@@ -54,23 +56,18 @@ struct HistoryTangential {
     ft[2] = -(q.kt * s[2] + md * vt[2]);
     const double fs2 = ft[0] * ft[0] + ft[1] * ft[1] + ft[2] * ft[2];
     const double fmax = q.mu * std::fabs(fn);
-    // Sticking contacts skip the sqrt; near the cap the exact test |F_t| > μ|F_n| decides.
-    if (fs2 < 0.999 * fmax * fmax) return;
+    // Branch-free, so that a batch of contacts runs in SIMD lanes: the cap's sqrt and
+    // division are computed for every contact and applied where |F_t| > μ|F_n|.
     const double fs = std::sqrt(fs2);
-    if (fs > fmax) {
-      if (shrmag2 != 0.0) {
-        const double ratio = fmax / fs;
-        if (update && q.kt > 0.0) {
-          const double c = md / q.kt;
-          for (int a = 0; a < 3; ++a) s[a] = ratio * (s[a] + c * vt[a]) - c * vt[a];
-        }
-        ft[0] *= ratio;
-        ft[1] *= ratio;
-        ft[2] *= ratio;
-      } else {
-        ft[0] = ft[1] = ft[2] = 0.0;
-      }
+    const bool slide = fs > fmax;
+    const bool rescale = slide & (shrmag2 != 0.0);  // else a sliding contact loses F_t
+    const double ratio = fmax / fs;
+    if (update) {
+      const bool rescale_s = rescale & (q.kt > 0.0);
+      const double c = md / q.kt;
+      for (int a = 0; a < 3; ++a) s[a] = rescale_s ? ratio * (s[a] + c * vt[a]) - c * vt[a] : s[a];
     }
+    for (int a = 0; a < 3; ++a) ft[a] = rescale ? ft[a] * ratio : (slide ? 0.0 : ft[a]);
   }
 };
 
@@ -78,7 +75,9 @@ struct HistoryTangential {
 struct NoTangential {
   static constexpr bool kNeedsMass = false;
   static constexpr int kHistory = 0;
-  struct Params {};
+  struct Params {
+    bool operator==(const Params&) const = default;
+  };
   static Params make(const ContactParams&, double) { return {}; }
   static void force(const Params&, const ContactKinematics&, double, double*, bool, double ft[3]) {
     ft[0] = ft[1] = ft[2] = 0.0;

@@ -12,6 +12,7 @@ struct HookeNormal {
   static constexpr int kHistory = 0;
   struct Params {
     double kn = 0, gamma_n = 0;
+    bool operator==(const Params&) const = default;
   };
   static Params make(const ContactParams& p, double m_eff_pair) {
     Params q;
@@ -19,7 +20,9 @@ struct HookeNormal {
     q.gamma_n = p.gamma_n >= 0.0 ? p.gamma_n : hooke_gamma_from_restitution(p.k1, p.e, m_eff_pair);
     return q;
   }
-  static double force(const Params& q, const ContactKinematics& k, double* /*h*/, bool /*update*/) {
+  // Always inlined: in the contact lanes it must become part of the SIMD loop.
+  [[gnu::always_inline]] static double force(const Params& q, const ContactKinematics& k, double* /*h*/,
+                                             bool /*update*/) {
     return q.kn * k.delta + k.m_eff * q.gamma_n * k.vn;
   }
 };

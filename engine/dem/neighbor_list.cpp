@@ -148,9 +148,14 @@ std::size_t candidates_cells(const CellGrid& g, const Particles& p, const Box& b
   for (int cn = 0; cn < ncells; ++cn) {
     const double* sh = box.shift[cells[cn].s];
     const auto s = static_cast<std::uint8_t>(cells[cn].s);
-    for (std::uint32_t k = cells[cn].k0; k < cells[cn].k1; ++k) {
+    // A cell lists ascending indices: skip the cells without j > i as a whole, and the
+    // part below i of the others, before the per-candidate loop.
+    const std::uint32_t k1 = cells[cn].k1;
+    if (k1 == cells[cn].k0 || g.order[k1 - 1] <= i) continue;
+    std::uint32_t k = cells[cn].k0;
+    while (g.order[k] <= i) ++k;
+    for (; k < k1; ++k) {
       const std::uint32_t j = g.order[k];
-      if (j <= i) continue;  // a cell lists ascending indices: predictable
       // The same arithmetic as within() (the N² reference): identical tables.
       const double dx = g.cx[3 * k] + sh[0] - xi;
       const double dy = g.cx[3 * k + 1] + sh[1] - yi;
@@ -261,7 +266,6 @@ void build_neighbor_list(NeighborList& list, Particles& p, const Box& box, doubl
   list.shift.resize(P);
   list.flags.assign(P, 0);
   list.hist.assign(P * H, 0.0);
-  list.pair_force.assign(P * 6, 0.0);
 #pragma omp parallel for schedule(static) if (nchunks > 1)
   for (std::size_t c = 0; c < nchunks; ++c) {
     std::size_t k = list.first[c * kChunk];
@@ -286,14 +290,24 @@ void build_neighbor_list(NeighborList& list, Particles& p, const Box& box, doubl
     }
   }
 
-  build_reverse_index(list, n);
+  index_pairs(list, p, extra_range);
   list.xref = p.x;
   ++list.builds;
 }
 
 std::size_t force_chunk_size(std::size_t n) { return std::max<std::size_t>(256, (n + 15) / 16); }
 
-void build_reverse_index(NeighborList& list, std::size_t n) {
+void index_pairs(NeighborList& list, const Particles& p, double range) {
+  const std::size_t n = p.n;
+  list.owner.resize(list.partner.size());
+  list.reach_sq.resize(list.partner.size());
+#pragma omp parallel for schedule(static) if (n > 4096)
+  for (std::size_t i = 0; i < n; ++i)
+    for (std::uint32_t q = list.first[i]; q < list.first[i + 1]; ++q) {
+      list.owner[q] = static_cast<std::uint32_t>(i);
+      const double reach = (p.radius[i] + range) + p.radius[list.partner[q]];
+      list.reach_sq[q] = reach * reach;
+    }
   const std::size_t K = force_chunk_size(n);
   list.rfirst.assign(n + 1, 0);
   for (std::size_t i = 0; i < n; ++i) {
@@ -302,13 +316,21 @@ void build_reverse_index(NeighborList& list, std::size_t n) {
       if (list.partner[q] >= end) ++list.rfirst[list.partner[q] + 1];
   }
   for (std::size_t i = 0; i < n; ++i) list.rfirst[i + 1] += list.rfirst[i];
-  list.rpair.resize(list.rfirst[n]);
+  list.cross_slot.assign(list.partner.size(), 0);
+  list.chunk_dep.resize((n + K - 1) / K);
+  for (std::size_t c = 0; c < list.chunk_dep.size(); ++c) list.chunk_dep[c] = static_cast<std::uint32_t>(c);
   std::vector<std::uint32_t> fill(list.rfirst.begin(), list.rfirst.end() - 1);
   for (std::size_t i = 0; i < n; ++i) {
     const std::size_t end = std::min(n, (i / K + 1) * K);
-    for (std::uint32_t q = list.first[i]; q < list.first[i + 1]; ++q)
-      if (list.partner[q] >= end) list.rpair[fill[list.partner[q]]++] = q;
+    for (std::uint32_t q = list.first[i]; q < list.first[i + 1]; ++q) {
+      const std::size_t j = list.partner[q];
+      if (j < end) continue;
+      list.cross_slot[q] = fill[j]++;
+      std::uint32_t& dep = list.chunk_dep[j / K];
+      dep = std::min(dep, static_cast<std::uint32_t>(i / K));
+    }
   }
+  list.cross_force.assign(6 * std::size_t(list.rfirst[n]), 0.0);
 }
 
 double max_displacement_sq(const NeighborList& list, const Particles& p) {

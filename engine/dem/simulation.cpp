@@ -8,6 +8,7 @@
 
 #include "engine/core/error.hpp"
 #include "engine/core/rng.hpp"
+#include "engine/dem/simd_clones.hpp"
 #include "engine/dem/time_step.hpp"
 
 namespace grainflow::dem {
@@ -26,21 +27,66 @@ double group_mass(const GroupConfig& g) {
   return 4.0 / 3.0 * std::numbers::pi * g.radius * g.radius * g.radius * g.density;
 }
 
-// Leap-frog kick and drift of particle i (Eq. 2.19); returns its squared displacement
-// since the last neighbour build.
-inline double kick_drift_one(Particles& P, const NeighborList& L, std::size_t i, double kick, double dt) {
-  const double ki = kick * P.inv_mass[i], kr = kick * P.inv_inertia[i];
-  const double* f = &P.f[3 * i];
-  const double* t = &P.t[3 * i];
-  double* v = &P.v[3 * i];
-  double* x = &P.x[3 * i];
-  double* w = &P.w[3 * i];
-  v[0] += ki * f[0]; v[1] += ki * f[1]; v[2] += ki * f[2];
-  x[0] += dt * v[0]; x[1] += dt * v[1]; x[2] += dt * v[2];
-  w[0] += kr * t[0]; w[1] += kr * t[1]; w[2] += kr * t[2];
-  const double* xr = &L.xref[3 * i];
-  const double d0 = x[0] - xr[0], d1 = x[1] - xr[1], d2 = x[2] - xr[2];
-  return d0 * d0 + d1 * d1 + d2 * d2;
+// The per-particle end of a force evaluation for particles [i0, i1): gravity added to F,
+// then the leap-frog kick and drift (Eq. 2.19) of the next step; returns the largest
+// squared displacement since the last neighbour build (0 without kick). SIMD over the
+// x, y, z components as one flat array: the per-particle factors are first spread to
+// the three components of a block, so that no loop needs stride-3 shuffles.
+template <bool kGravity, bool kKick>
+GRAINFLOW_DEM_SIMD_CLONES double gravity_kick_drift(Particles& P, const NeighborList& L, std::size_t i0,
+                                                    std::size_t i1, const Vec3& g, double kick, double dt) {
+  constexpr std::size_t kBlock = 256;  // particles; the spread factors stay in L1
+  double* __restrict f = P.f.data();
+  const double* __restrict t = P.t.data();
+  double* __restrict v = P.v.data();
+  double* __restrict x = P.x.data();
+  double* __restrict w = P.w.data();
+  const double* __restrict mass = P.mass.data();
+  const double* __restrict inv_mass = P.inv_mass.data();
+  const double* __restrict inv_inertia = P.inv_inertia.data();
+  const double* __restrict xref = L.xref.data();
+  const double gc[3] = {g.x(), g.y(), g.z()};
+  double mg[3 * kBlock], ki[3 * kBlock], kr[3 * kBlock], d2[3 * kBlock];
+  double dmax = 0.0;
+  for (std::size_t b0 = i0; b0 < i1; b0 += kBlock) {
+    const std::size_t nb = std::min(kBlock, i1 - b0), k0 = 3 * b0, nk = 3 * nb;
+    for (std::size_t l = 0; l < nb; ++l)
+      for (int c = 0; c < 3; ++c) {
+        mg[3 * l + c] = mass[b0 + l] * gc[c];
+        ki[3 * l + c] = kick * inv_mass[b0 + l];
+        kr[3 * l + c] = kick * inv_inertia[b0 + l];
+      }
+#pragma omp simd
+    for (std::size_t k = 0; k < nk; ++k) {
+      double fk = f[k0 + k];
+      if constexpr (kGravity) {
+        fk = fk + mg[k];
+        f[k0 + k] = fk;
+      }
+      if constexpr (kKick) {
+        const double vk = v[k0 + k] + ki[k] * fk;
+        const double xk = x[k0 + k] + dt * vk;
+        v[k0 + k] = vk;
+        x[k0 + k] = xk;
+        w[k0 + k] = w[k0 + k] + kr[k] * t[k0 + k];
+        const double d = xk - xref[k0 + k];
+        d2[k] = d * d;
+      }
+    }
+    if constexpr (kKick)
+      for (std::size_t l = 0; l < nb; ++l) dmax = std::max(dmax, d2[3 * l] + d2[3 * l + 1] + d2[3 * l + 2]);
+  }
+  return dmax;
+}
+
+// Waits until `flag` reads `pass`: a short spin (the pass of a neighbouring chunk is
+// usually about done), then a blocking wait, which leaves the core to the thread being
+// waited for when the machine has fewer free cores than threads.
+void wait_for_pass(const std::atomic<std::uint32_t>& flag, std::uint32_t pass) {
+  for (int spins = 0; spins < 2000; ++spins)
+    if (flag.load(std::memory_order_acquire) == pass) return;
+  for (std::uint32_t seen; (seen = flag.load(std::memory_order_acquire)) != pass;)
+    flag.wait(seen, std::memory_order_acquire);
 }
 
 }  // namespace
@@ -234,18 +280,18 @@ void Simulation::rebuild() {
 void Simulation::update_wall_near() {
   // Walls each particle may reach before the next rebuild (it moves < skin/2 from its
   // position at the build); walls with live history stay marked so it gets cleared.
-  wall_near_.assign(p_.n, 0);
+  wall_first_.assign(p_.n + 1, 0);
+  wall_slot_.clear();
   const double reach = law_->cohesion_range() + skin_;
   for (std::size_t i = 0; i < p_.n; ++i) {
-    std::uint8_t m = 0;
     for (int w = 0; w < 6; ++w) {
       if (!box_.wall[w]) continue;
       const int a = w / 2;
       const double x = list_.xref[3 * i + a];
       const double dist = w % 2 == 0 ? x - box_.lo[a] : box_.hi[a] - x;
-      if (dist < p_.radius[i] + reach || wall_flags_[6 * i + w] != 0) m |= static_cast<std::uint8_t>(1u << w);
+      if (dist < p_.radius[i] + reach || wall_flags_[6 * i + w] != 0) wall_slot_.push_back(static_cast<std::uint32_t>(6 * i + w));
     }
-    wall_near_[i] = m;
+    wall_first_[i + 1] = static_cast<std::uint32_t>(wall_slot_.size());
   }
 }
 
@@ -263,34 +309,46 @@ void Simulation::compute_forces(bool update, bool then_integrate) {
   fp.box = &box_;
   fp.wall_hist = wall_hist_.data();
   fp.wall_flags = wall_flags_.data();
-  fp.wall_near = wall_near_.data();
+  fp.wall_first = wall_first_.data();
+  fp.wall_slot = wall_slot_.data();
   fp.dt = dt_;
   fp.update = update;
-  const double g[3] = {cfg_.gravity.x(), cfg_.gravity.y(), cfg_.gravity.z()};
+  const Vec3& g = cfg_.gravity;
   Particles& P = p_;
   const NeighborList& L = list_;
   const ContactLaw& law = *law_;
 
+  if (chunk_done_size_ != nchunks) {
+    chunk_done_ = std::make_unique<std::atomic<std::uint32_t>[]>(nchunks);
+    chunk_done_size_ = nchunks;
+  }
+  std::atomic<std::uint32_t>* done = chunk_done_.get();
+  const std::uint32_t pass = ++force_passes_;  // wraps: only equality with the current pass counts
+
+  // Each chunk: its pair pass, then (once the chunks with pairs into it have had theirs,
+  // see NeighborList::chunk_dep) the rest of its force and the next kick and drift, while
+  // its particles are still in cache. Chunks are handed out in ascending order to the
+  // next free thread: a thread only ever waits for pair passes of lower chunks, which
+  // never wait themselves, and the threads stay balanced although chunks differ much in
+  // cost (the dense bottom of a settling bed, the dilute top).
 #pragma omp parallel if (nchunks > 1)
   {
-#pragma omp for schedule(static)
-    for (std::size_t c = 0; c < nchunks; ++c) law.pair_pass(fp, c * kChunk, std::min(n, (c + 1) * kChunk));
-
-#pragma omp for schedule(static) nowait  // the end of the region is the barrier
+#pragma omp for schedule(dynamic, 1) nowait  // the end of the region is the barrier
     for (std::size_t c = 0; c < nchunks; ++c) {
       const std::size_t i0 = c * kChunk, i1 = std::min(n, (c + 1) * kChunk);
+      law.pair_pass(fp, i0, i1);
+      done[c].store(pass, std::memory_order_release);
+      done[c].notify_all();
+      for (std::size_t d = L.chunk_dep[c]; d < c; ++d) wait_for_pass(done[d], pass);
       // Each particle sums its pairs in a fixed order (the pair pass: shares from owners in
       // its chunk, own pairs by ascending j; then owners in earlier chunks by ascending i):
       // independent of the thread count.
       for (std::size_t i = i0; i < i1; ++i) {
         double f0 = 0, f1 = 0, f2 = 0, t0 = 0, t1 = 0, t2 = 0;
         for (std::size_t k = L.rfirst[i]; k < L.rfirst[i + 1]; ++k) {
-          const std::size_t q = L.rpair[k];
-          // Branch-free: inactive slots hold finite stale values, multiplied by zero.
-          const double a = static_cast<double>(L.flags[q] & NeighborList::kActive);
-          const double* pf = &L.pair_force[q * 6];
-          f0 -= a * pf[0]; f1 -= a * pf[1]; f2 -= a * pf[2];
-          t0 += a * pf[3]; t1 += a * pf[4]; t2 += a * pf[5];
+          const double* pf = &L.cross_force[k * 6];  // zero while the pair is inactive
+          f0 -= pf[0]; f1 -= pf[1]; f2 -= pf[2];
+          t0 += pf[3]; t1 += pf[4]; t2 += pf[5];
         }
         // Torque R_i Σ (n × F_t) over all the particle's contacts.
         const double ri = P.radius[i];
@@ -301,24 +359,10 @@ void Simulation::compute_forces(bool update, bool then_integrate) {
       }
       double ws[6][3] = {};
       law.wall_pass(fp, i0, i1, ws);
-      // Gravity, fused with the next step's kick and drift while the chunk is in cache
-      // (the same operations, in the same order, as integrate()).
-      if (then_integrate) {
-        double dmax = 0.0;
-        for (std::size_t i = i0; i < i1; ++i) {
-          const double m = P.mass[i];
-          double* f = &P.f[3 * i];
-          f[0] += m * g[0]; f[1] += m * g[1]; f[2] += m * g[2];
-          dmax = std::max(dmax, kick_drift_one(P, L, i, kick, dt));
-        }
-        chunk_disp_[c] = dmax;
-      } else {
-        for (std::size_t i = i0; i < i1; ++i) {
-          const double m = P.mass[i];
-          double* f = &P.f[3 * i];
-          f[0] += m * g[0]; f[1] += m * g[1]; f[2] += m * g[2];
-        }
-      }
+      // Gravity, fused with the next step's kick and drift (the same operations, in the
+      // same order, as integrate()).
+      if (then_integrate) chunk_disp_[c] = gravity_kick_drift<true, true>(P, L, i0, i1, g, kick, dt);
+      else gravity_kick_drift<true, false>(P, L, i0, i1, g, kick, dt);
       std::copy(&ws[0][0], &ws[0][0] + 18, &chunk_wall_[c * 18]);
     }
   }
@@ -327,13 +371,6 @@ void Simulation::compute_forces(bool update, bool then_integrate) {
   for (std::size_t c = 0; c < nchunks; ++c)
     for (int w = 0; w < 6; ++w)
       for (int a = 0; a < 3; ++a) wall_force_[w][a] += chunk_wall_[c * 18 + 3 * w + a];
-}
-
-double Simulation::kick_drift(Particles& P, const NeighborList& L, std::size_t i0, std::size_t i1, double kick,
-                              double dt) {
-  double dmax = 0.0;
-  for (std::size_t i = i0; i < i1; ++i) dmax = std::max(dmax, kick_drift_one(P, L, i, kick, dt));
-  return dmax;
 }
 
 void Simulation::finish_integrate() {
@@ -355,9 +392,9 @@ void Simulation::integrate() {
   const double dt = dt_;
   Particles& P = p_;
   const NeighborList& L = list_;
-#pragma omp parallel for schedule(static) if (nchunks > 1)
+#pragma omp parallel for schedule(static, 1) if (nchunks > 1)
   for (std::size_t c = 0; c < nchunks; ++c)
-    chunk_disp_[c] = kick_drift(P, L, c * kChunk, std::min(n, (c + 1) * kChunk), kick, dt);
+    chunk_disp_[c] = gravity_kick_drift<false, true>(P, L, c * kChunk, std::min(n, (c + 1) * kChunk), cfg_.gravity, kick, dt);
   finish_integrate();
 }
 

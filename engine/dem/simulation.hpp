@@ -4,6 +4,7 @@
 // UNITS: SI throughout — metres, kilograms, seconds, newtons, joules, radians per second.
 #pragma once
 #include <array>
+#include <atomic>
 #include <cstdint>
 #include <filesystem>
 #include <memory>
@@ -126,7 +127,6 @@ private:
   // F_n at the current positions (history updated if asked), optionally fused with the
   // next kick + drift.
   void compute_forces(bool update, bool then_integrate);
-  static double kick_drift(Particles& P, const NeighborList& L, std::size_t i0, std::size_t i1, double kick, double dt);
   void finish_integrate();
   void update_wall_near();
   void grow_radii();  // FINDRAD step
@@ -140,10 +140,14 @@ private:
   std::unique_ptr<ContactLaw> law_;
   std::vector<double> wall_hist_;
   std::vector<std::uint8_t> wall_flags_;
-  std::vector<std::uint8_t> wall_near_;  // rebuilt with the neighbour table
+  std::vector<std::uint32_t> wall_first_, wall_slot_;  // ForcePass::wall_*, rebuilt with the table
   std::vector<double> final_radius_;     // radius growth target
   std::vector<double> chunk_wall_;   // per chunk 6×3
   std::vector<double> chunk_disp_;   // per chunk max squared displacement
+  // Per chunk: the number of the force pass whose pair pass it has finished last.
+  std::unique_ptr<std::atomic<std::uint32_t>[]> chunk_done_;
+  std::size_t chunk_done_size_ = 0;
+  std::uint32_t force_passes_ = 0;
   double dt_ = 0.0, dt_limit_ = 0.0, skin_ = 0.0, time_ = 0.0;
   std::uint64_t step_ = 0;
   bool started_ = false;         // first kick is a half kick (v given at t = 0)

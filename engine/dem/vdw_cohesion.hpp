@@ -15,6 +15,7 @@ struct VdwCohesion {
   static constexpr int kHistory = 0;
   struct Params {
     double hamaker = 0, asperity = 0, rss6 = 0, alpha_min = 0, alpha_cut = 0;
+    bool operator==(const Params&) const = default;
   };
   static Params make(const ContactParams& p, double) {
     Params q;
@@ -43,7 +44,9 @@ struct VdwCohesion {
 struct NoCohesion {
   static constexpr bool kNeedsRadius = false;
   static constexpr int kHistory = 0;
-  struct Params {};
+  struct Params {
+    bool operator==(const Params&) const = default;
+  };
   static Params make(const ContactParams&, double) { return {}; }
   static double range(const Params&) { return 0.0; }
   static double force(const Params&, const ContactKinematics&) { return 0.0; }

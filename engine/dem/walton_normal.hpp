@@ -16,6 +16,7 @@ struct WaltonNormal {
   static constexpr int kHistory = 1;
   struct Params {
     double k1 = 0, k2 = 0, unload_ratio = 0;  // unload_ratio = 1 − K1/K2
+    bool operator==(const Params&) const = default;
   };
   static Params make(const ContactParams& p, double /*m_eff_pair*/) {
     Params q;

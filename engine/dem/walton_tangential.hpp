@@ -22,6 +22,7 @@ struct WaltonTangential {
   static constexpr int kHistory = 6;
   struct Params {
     double k0 = 0, mu = 0, gamma = 1.0 / 3.0;
+    bool operator==(const Params&) const = default;
   };
   static Params make(const ContactParams& p, double) { return {p.kt, p.mu, p.walton_gamma}; }
 

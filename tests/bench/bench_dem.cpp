@@ -6,8 +6,9 @@
 // against N with its fitted exponent. Threads: OMP_NUM_THREADS, or --threads 1,2 to run
 // each size at each thread count back to back (speed-up under the same machine load). On
 // a machine shared with other jobs set OMP_WAIT_POLICY=passive: spinning threads otherwise
-// wait a scheduler time slice at every barrier (two per step) and two threads run 20×
-// slower than one. --digest prints a hash of the final state (bitwise comparisons).
+// wait a scheduler time slice at every barrier (one per step, besides the short waits
+// between neighbouring force chunks) and two threads run 20× slower than one. --digest
+// prints a hash of the final state (bitwise comparisons).
 #include <algorithm>
 #include <chrono>
 #include <ctime>
