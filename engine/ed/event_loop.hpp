@@ -160,9 +160,9 @@ private:
     double sx, sy;
     s_.grid.image_shift(s_.grid.cell(i), s_.grid.cell(j), sx, sy);
     const double rx = a.x - (b.x + sx), ry = a.y - (b.y + sy);
-    const double m1 = s_.disk[i].m, m2 = s_.disk[j].m;
+    const double m1 = a.m, m2 = b.m;
     const CollisionImpulse J = collision_impulse(rx, ry, a.vx - b.vx, a.vy - b.vy, a.r, b.r,
-                                                 s_.disk[i].w, s_.disk[j].w, m1, m2, s_.rule);
+                                                 a.w, b.w, m1, m2, s_.rule);
     const double k0 = 0.5 * (m1 * (a.vx * a.vx + a.vy * a.vy) + m2 * (b.vx * b.vx + b.vy * b.vy));
     a.vx += J.jx / m1;
     a.vy += J.jy / m1;
@@ -171,11 +171,11 @@ private:
     const double k1 = 0.5 * (m1 * (a.vx * a.vx + a.vy * a.vy) + m2 * (b.vx * b.vx + b.vy * b.vy));
     double drot = 0.0;
     if (J.dw1 != 0.0 || J.dw2 != 0.0) {
-      const double w1 = s_.disk[i].w, w2 = s_.disk[j].w;
-      s_.disk[i].w += J.dw1;
-      s_.disk[j].w += J.dw2;
-      drot = 0.5 * (s_.inertia(i) * (s_.disk[i].w * s_.disk[i].w - w1 * w1) +
-                    s_.inertia(j) * (s_.disk[j].w * s_.disk[j].w - w2 * w2));
+      const double w1 = a.w, w2 = b.w;
+      a.w += J.dw1;
+      b.w += J.dw2;
+      drot = 0.5 * (s_.inertia(i) * (a.w * a.w - w1 * w1) +
+                    s_.inertia(j) * (b.w * b.w - w2 * w2));
     }
     s_.add_kinetic(k1 - k0, drot, 0.0, 0.0);
     s_.stats.virial += rx * J.jx + ry * J.jy;
@@ -350,18 +350,18 @@ private:
       double sx, sy;
       s_.grid.image_shift(s_.grid.cell(i), s_.grid.cell(j), sx, sy);
       const double rx = a.x - (b.x + sx), ry = a.y - (b.y + sy);
-      const double m = s_.disk[i].m;
-      const CollisionImpulse J = collision_impulse_heavy(rx, ry, a.vx - b.vx, a.vy - b.vy, a.r, b.r, s_.disk[i].w,
-                                                         s_.disk[j].w, m, s_.rule);
+      const double m = a.m;
+      const CollisionImpulse J = collision_impulse_heavy(rx, ry, a.vx - b.vx, a.vy - b.vy, a.r, b.r, a.w,
+                                                         b.w, m, s_.rule);
       const double k0 = 0.5 * m * (a.vx * a.vx + a.vy * a.vy);
       a.vx += J.jx / m;
       a.vy += J.jy / m;
       const double k1 = 0.5 * m * (a.vx * a.vx + a.vy * a.vy);
       double drot = 0.0;
       if (J.dw1 != 0.0) {
-        const double w1 = s_.disk[i].w;
-        s_.disk[i].w += J.dw1;
-        drot = 0.5 * s_.inertia(i) * (s_.disk[i].w * s_.disk[i].w - w1 * w1);
+        const double w1 = a.w;
+        a.w += J.dw1;
+        drot = 0.5 * s_.inertia(i) * (a.w * a.w - w1 * w1);
       }
       s_.add_kinetic(k1 - k0, drot, J.jx, J.jy);  // the frozen disk absorbs −J
       s_.stats.virial += rx * J.jx + ry * J.jy;

@@ -17,19 +17,19 @@ void SystemState::set_velocity(int i, double vx, double vy, double w) {
   if (slot[i] == SlotState::frozen) {  // a moving wall: outside the books
     d.vx = vx;
     d.vy = vy;
-    disk[i].w = w;
+    d.w = w;
     bump(i);
     touched_.push_back(i);
     return;
   }
-  const double m = disk[i].m;
+  const double m = d.m;
   kin_ += 0.5 * m * (vx * vx + vy * vy - d.vx * d.vx - d.vy * d.vy);
-  rot_ += 0.5 * inertia(i) * (w * w - disk[i].w * disk[i].w);
+  rot_ += 0.5 * inertia(i) * (w * w - d.w * d.w);
   px_ += m * (vx - d.vx);
   py_ += m * (vy - d.vy);
   d.vx = vx;
   d.vy = vy;
-  disk[i].w = w;
+  d.w = w;
   bump(i);
   touched_.push_back(i);
 }
@@ -39,11 +39,11 @@ void SystemState::recompute_books() {
   for (int i = 0; i < size(); ++i) {
     if (slot[i] != SlotState::present) continue;
     const Disk& d = disk[i];
-    kin_ += 0.5 * disk[i].m * (d.vx * d.vx + d.vy * d.vy);
-    rot_ += 0.5 * inertia(i) * disk[i].w * disk[i].w;
-    px_ += disk[i].m * d.vx;
-    py_ += disk[i].m * d.vy;
-    mtot_ += disk[i].m;
+    kin_ += 0.5 * d.m * (d.vx * d.vx + d.vy * d.vy);
+    rot_ += 0.5 * inertia(i) * d.w * d.w;
+    px_ += d.m * d.vx;
+    py_ += d.m * d.vy;
+    mtot_ += d.m;
   }
 }
 
@@ -77,9 +77,9 @@ void SystemState::reset_slots(std::vector<SlotState> states) {
 
 void SystemState::add_books(int i, double sign) {
   const Disk& d = disk[i];
-  const double m = disk[i].m;
+  const double m = d.m;
   kin_ += sign * 0.5 * m * (d.vx * d.vx + d.vy * d.vy);
-  rot_ += sign * 0.5 * inertia(i) * disk[i].w * disk[i].w;
+  rot_ += sign * 0.5 * inertia(i) * d.w * d.w;
   px_ += sign * m * d.vx;
   py_ += sign * m * d.vy;
   mtot_ += sign * m;
@@ -153,7 +153,7 @@ void SystemState::freeze(int i, double vx, double vy) {
   Disk& d = disk[i];
   d.vx = vx;
   d.vy = vy;
-  disk[i].w = 0.0;  // a translating wall: no spin enters a rough collision
+  d.w = 0.0;  // a translating wall: no spin enters a rough collision
   bump(i);
   touched_.push_back(i);
 }
