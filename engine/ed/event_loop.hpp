@@ -100,6 +100,7 @@ private:
     const NextEvent& ev = s_.event[e];
     if (ev.kind == EventKind::Pair) {
       prefetch_disk(ev.partner);
+      __builtin_prefetch(&s_.counter[ev.partner]);
       __builtin_prefetch(&s_.event[ev.partner]);
       s_.grid.prefetch_cell_of(ev.partner);
     }
@@ -137,7 +138,7 @@ private:
       crossing(e);
     } else if (s_.event[e].kind == EventKind::Pair) {
       const int j = s_.event[e].partner;
-      if (s_.event[j].counter != s_.event[e].partner_count) {
+      if (s_.counter[j] != s_.event[e].partner_count) {
         ++s_.stats.stale;
         predict_full(e);
         cal_.update(e);
@@ -181,8 +182,8 @@ private:
     s_.stats.virial += rx * J.jx + ry * J.jy;
     ++s_.stats.collisions;
     if (J.sliding) ++s_.stats.sliding;
-    ++s_.event[i].counter;
-    ++s_.event[j].counter;
+    ++s_.counter[i];
+    ++s_.counter[j];
     if (on_collision) on_collision(CollisionRecord{i, j, s_.now()});
     // A heap-based calendar must see each key change before the next one (an entry whose
     // key changed but is not yet re-sifted would mislead the other's sift).
@@ -211,7 +212,7 @@ private:
     g.insert(i, to);
     cal_.moved(i, from, to);
     const NextEvent& ev = s_.event[i];
-    if (ev.kind == EventKind::Pair && s_.event[ev.partner].counter != ev.partner_count) {
+    if (ev.kind == EventKind::Pair && s_.counter[ev.partner] != ev.partner_count) {
       predict_full(i);  // the remembered partner changed: the old neighbourhood must be rescanned
     } else {
       // The best event in the old neighbourhood still holds; only the newly adjacent row of
@@ -367,7 +368,7 @@ private:
       s_.stats.virial += rx * J.jx + ry * J.jy;
       ++s_.stats.collisions;
       if (J.sliding) ++s_.stats.sliding;
-      ++s_.event[i].counter;
+      ++s_.counter[i];
       if (on_collision) on_collision(CollisionRecord{i, j, s_.now()});
     } else {
       // Two frozen disks only meet when agents froze them at different velocities: equal
@@ -384,8 +385,8 @@ private:
       b.vx -= J.jx;
       b.vy -= J.jy;
       ++s_.stats.collisions;
-      ++s_.event[i].counter;
-      ++s_.event[j].counter;
+      ++s_.counter[i];
+      ++s_.counter[j];
       if (on_collision) on_collision(CollisionRecord{i, j, s_.now()});
     }
     // j keeps its trajectory; its own event may have named i, so it is predicted again too.
@@ -512,7 +513,7 @@ private:
     ev.pair_time = s_.now() + best;
     ev.partner = who;
     ev.kind = best == kNever ? EventKind::None : kind;
-    ev.partner_count = kind == EventKind::Pair ? s_.event[who].counter : 0u;
+    ev.partner_count = kind == EventKind::Pair ? s_.counter[who] : 0u;
   }
 
   // Full prediction for disk i over its 3×3 neighbourhood (§2.2) and its cell's agents.

@@ -85,6 +85,7 @@ void Simulation::build(std::vector<DiskInit> disks) {
                      n > 0 ? dmin : 1.0);
   s_.rule = CollisionParams{cfg_.e, cfg_.e_t, cfg_.mu, 0.5};
   s_.disk.resize(n);
+  s_.counter.assign(n, 0);
   s_.grid.resize_particles(n);
   for (int i = 0; i < n; ++i) {
     const DiskInit& d = disks[i];
@@ -134,9 +135,11 @@ void Simulation::compact(const std::vector<int>& kept) {
   for (int k = 0; k < n; ++k) {
     const int i = kept[k];
     s_.disk[k] = s_.disk[i];
+    s_.counter[k] = s_.counter[i];
     states[k] = s_.slot[i];
   }
   s_.disk.resize(n);
+  s_.counter.resize(n);
   s_.grid = CellGrid(s_.grid.lx(), s_.grid.ly(), s_.grid.periodic_x(), s_.grid.periodic_y(),
                      cfg_.min_cell_size, std::max(1e-12, [&] {
                        double d = kNever;
@@ -239,7 +242,7 @@ double Simulation::min_gap() const {
 
 std::size_t Simulation::memory_bytes() const {
   const std::size_t n = s_.disk.capacity();
-  const std::size_t per = sizeof(Disk) +
+  const std::size_t per = sizeof(Disk) + 4 /*counter*/ +
                           sizeof(NextEvent) + 1 /*slot*/;
   return n * per + s_.grid.memory_bytes() + loop_->calendar_bytes();
 }

@@ -18,7 +18,7 @@ void SystemState::set_velocity(int i, double vx, double vy, double w) {
     d.vx = vx;
     d.vy = vy;
     d.w = w;
-    bump(i);
+    ++counter[i];
     touched_.push_back(i);
     return;
   }
@@ -30,7 +30,7 @@ void SystemState::set_velocity(int i, double vx, double vy, double w) {
   d.vx = vx;
   d.vy = vy;
   d.w = w;
-  bump(i);
+  ++counter[i];
   touched_.push_back(i);
 }
 
@@ -89,6 +89,7 @@ void SystemState::grow() {
   const int n = size();
   const int n1 = n + std::max(64, n / 4);
   disk.resize(n1, Disk{});
+  counter.resize(n1, 0u);
   slot.resize(n1, SlotState::absent);
   grid.grow_particles(n1);
   // Prediction arrays exist once the loop has started; timer keys follow the disk slots.
@@ -113,7 +114,7 @@ int SystemState::add_disk(const DiskInit& in) {
   const int i = free_.back();
   free_.pop_back();
   disk[i] = Disk{x, y, in.v.x(), in.v.y(), now_, in.radius, in.mass, in.omega};
-  bump(i);  // predictions that named this slot's former disk are stale
+  ++counter[i];  // predictions that named this slot's former disk are stale
   slot[i] = SlotState::present;
   ++n_present_;
   grid.insert(i, grid.cell_of_point(x, y));
@@ -132,11 +133,8 @@ void SystemState::remove_disk(int i) {
   grid.remove(i);
   slot[i] = SlotState::absent;
   --n_present_;
-  if (events_ready_) {  // partners' predictions with it become stale: no collision with the ghost
-    const std::uint32_t c = event[i].counter + 1;
-    event[i] = NextEvent{};
-    event[i].counter = c;
-  }
+  ++counter[i];  // partners' predictions with it become stale: no collision with the ghost
+  if (events_ready_) event[i] = NextEvent{};
   free_.push_back(i);
   ++stats.removed;
   removed_.push_back({i, c});
@@ -154,7 +152,7 @@ void SystemState::freeze(int i, double vx, double vy) {
   d.vx = vx;
   d.vy = vy;
   d.w = 0.0;  // a translating wall: no spin enters a rough collision
-  bump(i);
+  ++counter[i];
   touched_.push_back(i);
 }
 
