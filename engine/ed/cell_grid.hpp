@@ -72,30 +72,36 @@ public:
   // 3×3 block of cells around cell c (three runs of three cells each).
   void prefetch_cell_of(int i) const { __builtin_prefetch(cell_.data() + i); }
   void prefetch_block(int c) const {
-    const int x0 = ix(c) > 0 ? ix(c) - 1 : 0, x1 = ix(c) + 1 < nx_ ? ix(c) + 1 : nx_ - 1;
-    const int y = iy(c);
-    for (int yy = y > 0 ? y - 1 : 0; yy <= (y + 1 < ny_ ? y + 1 : ny_ - 1); ++yy) {
-      const char* a = reinterpret_cast<const char*>(&slots_[static_cast<std::size_t>(index(x0, yy)) * stride_]);
-      const char* b = reinterpret_cast<const char*>(&slots_[static_cast<std::size_t>(index(x1, yy)) * stride_ + cap_]);
+    block_rows(c, [this](int first, int last) {
+      const char* a = reinterpret_cast<const char*>(cell_slots(first));
+      const char* b = reinterpret_cast<const char*>(cell_slots(last) + cap_);
       for (; a <= b; a += 64) __builtin_prefetch(a);
       __builtin_prefetch(b);
-    }
+    });
   }
-  // Calls f(j) for every disk of the 3×3 block around cell c, clamped at the grid's edges
-  // (no periodic wrap): for cache hints, whose misses at an edge cost only time.
+  // Calls f(j) for every disk of the 3×3 block around cell c (for cache hints).
   template <class F>
   void for_block_members(int c, F&& f) const {
-    const int x0 = ix(c) > 0 ? ix(c) - 1 : 0, x1 = ix(c) + 1 < nx_ ? ix(c) + 1 : nx_ - 1;
-    const int y = iy(c);
-    for (int yy = y > 0 ? y - 1 : 0; yy <= (y + 1 < ny_ ? y + 1 : ny_ - 1); ++yy)
-      for (int xx = x0; xx <= x1; ++xx) {
-        const std::int32_t* s = &slots_[static_cast<std::size_t>(index(xx, yy)) * stride_];
+    block_rows(c, [&](int first, int last) {
+      for (int cc = first; cc <= last; ++cc) {
+        const std::int32_t* s = cell_slots(cc);
         for (int q = 1; q <= s[0]; ++q) f(s[q]);
       }
+    });
   }
   std::size_t memory_bytes() const { return (slots_.capacity() + cell_.capacity() + pos_.capacity()) * 4; }
 
 private:
+  // Calls f(first, last) for each row of the 3×3 block around cell c: the cells first..last
+  // of a row are adjacent in memory. Clamped at the grid's edges, no periodic wrap: the
+  // callers are cache hints, for which a missed image cell costs only time.
+  template <class F>
+  void block_rows(int c, F&& f) const {
+    const int x0 = ix(c) > 0 ? ix(c) - 1 : 0, x1 = ix(c) + 1 < nx_ ? ix(c) + 1 : nx_ - 1;
+    const int y = iy(c);
+    for (int yy = y > 0 ? y - 1 : 0; yy <= (y + 1 < ny_ ? y + 1 : ny_ - 1); ++yy) f(index(x0, yy), index(x1, yy));
+  }
+
   int nx_ = 0, ny_ = 0;
   double w_ = 0.0, h_ = 0.0, lx_ = 0.0, ly_ = 0.0;
   bool px_ = false, py_ = false;

@@ -193,7 +193,7 @@ double Simulation::kinetic_energy() const {
   for (int i = 0; i < s_.size(); ++i) {
     if (s_.slot[i] != SlotState::present) continue;
     const Disk& d = s_.disk[i];
-    k += 0.5 * s_.disk[i].m * (d.vx * d.vx + d.vy * d.vy) + 0.5 * s_.inertia(i) * s_.disk[i].w * s_.disk[i].w;
+    k += 0.5 * d.m * (d.vx * d.vx + d.vy * d.vy) + 0.5 * s_.inertia(i) * d.w * d.w;
   }
   return k;
 }

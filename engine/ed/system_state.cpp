@@ -92,7 +92,7 @@ void SystemState::grow() {
   counter.resize(n1, 0u);
   slot.resize(n1, SlotState::absent);
   grid.grow_particles(n1);
-  // Prediction arrays exist once the loop has started; timer keys follow the disk slots.
+  // Event records exist once the loop has started; the timers' records follow the disk slots.
   if (events_ready_) {
     event.insert(event.begin() + n, static_cast<std::size_t>(n1 - n), NextEvent{});
     grown_ = true;

@@ -2,6 +2,7 @@
 // their own lazy clocks (seed 003 §2.3), per-disk next events with partner counters
 // (DynamO style), the cell map (§2.2), the collision rule (§3.4) and the energy books.
 #pragma once
+#include <cstddef>
 #include <cstdint>
 #include <memory>
 #include <vector>
@@ -89,7 +90,10 @@ public:
     events_ready_ = true;
   }
 
-  CalendarKeys calendar_keys() const { return {&event.data()->key, sizeof(NextEvent) / sizeof(double)}; }
+  CalendarKeys calendar_keys() const {
+    static_assert(offsetof(NextEvent, key) == 0 && sizeof(NextEvent) % sizeof(double) == 0);
+    return {reinterpret_cast<const double*>(event.data()), sizeof(NextEvent) / sizeof(double)};
+  }
 
   CellGrid grid;
   CollisionParams rule;
