@@ -295,7 +295,7 @@ void build_neighbor_list(NeighborList& list, Particles& p, const Box& box, doubl
   ++list.builds;
 }
 
-std::size_t force_chunk_size(std::size_t n) { return std::max<std::size_t>(256, (n + 15) / 16); }
+std::size_t force_chunk_size(std::size_t n) { return std::max<std::size_t>(128, (n + 15) / 16); }
 
 void index_pairs(NeighborList& list, const Particles& p, double range) {
   const std::size_t n = p.n;

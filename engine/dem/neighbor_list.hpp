@@ -52,7 +52,10 @@ void build_neighbor_list(NeighborList& list, Particles& p, const Box& box, doubl
 // Fixed work unit of the force pass (particles [c·K, (c+1)·K) form chunk c). It depends on
 // N only, never on the thread count, so the summation order (and the trajectory) is the
 // same for any number of threads; about 16 chunks keep two threads balanced while most
-// pairs stay inside one chunk, where the force is scattered directly.
+// pairs stay inside one chunk, where the force is scattered directly. Small systems get
+// chunks of 128: two threads that meet in the middle of the chunks then finish within
+// ~1.5 µs of each other at N = 2,000 (chunks of 256: 1-thread runs ~4 % faster, 2-thread
+// runs ~5 % slower).
 std::size_t force_chunk_size(std::size_t n);
 
 // The arrays derived from first/partner and the radii: owner, reach_sq for the force

@@ -1,6 +1,7 @@
 #include "engine/dem/simulation.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <numbers>
@@ -10,6 +11,10 @@
 #include "engine/core/rng.hpp"
 #include "engine/dem/simd_clones.hpp"
 #include "engine/dem/time_step.hpp"
+
+#ifdef _OPENMP
+#include <omp.h>
+#endif
 
 namespace grainflow::dem {
 
@@ -79,14 +84,40 @@ GRAINFLOW_DEM_SIMD_CLONES double gravity_kick_drift(Particles& P, const Neighbor
   return dmax;
 }
 
-// Waits until `flag` reads `pass`: a short spin (the pass of a neighbouring chunk is
-// usually about done), then a blocking wait, which leaves the core to the thread being
-// waited for when the machine has fewer free cores than threads.
-void wait_for_pass(const std::atomic<std::uint32_t>& flag, std::uint32_t pass) {
-  for (int spins = 0; spins < 2000; ++spins)
-    if (flag.load(std::memory_order_acquire) == pass) return;
-  for (std::uint32_t seen; (seen = flag.load(std::memory_order_acquire)) != pass;)
-    flag.wait(seen, std::memory_order_acquire);
+// Start of the k-th of `parts` contiguous runs of chunks of about equal total cost (the
+// prefix sum nearest k/parts of the total); `cost` empty: equal numbers of chunks.
+std::size_t balanced_split(const std::vector<double>& cost, std::size_t nchunks, std::size_t parts, std::size_t k) {
+  if (k == 0 || k >= parts) return k == 0 ? 0 : nchunks;
+  if (cost.empty()) return nchunks * k / parts;
+  double total = 0.0;
+  for (double c : cost) total += c;
+  const double target = total * static_cast<double>(k) / static_cast<double>(parts);
+  std::size_t best = 0;
+  double prefix = 0.0, best_gap = target;
+  for (std::size_t c = 1; c <= nchunks; ++c) {
+    prefix += cost[c - 1];
+    if (std::abs(prefix - target) < best_gap) {
+      best_gap = std::abs(prefix - target);
+      best = c;
+    }
+  }
+  return best;
+}
+
+std::size_t thread_index() {
+#ifdef _OPENMP
+  return static_cast<std::size_t>(omp_get_thread_num());
+#else
+  return 0;
+#endif
+}
+
+std::size_t team_size() {
+#ifdef _OPENMP
+  return static_cast<std::size_t>(omp_get_num_threads());
+#else
+  return 1;
+#endif
 }
 
 }  // namespace
@@ -295,14 +326,35 @@ void Simulation::update_wall_near() {
   }
 }
 
-void Simulation::compute_forces(bool update, bool then_integrate) {
+std::size_t Simulation::force_chunks() const {
+  const std::size_t kChunk = force_chunk_size(p_.n);
+  return (p_.n + kChunk - 1) / kChunk;
+}
+
+void Simulation::begin_force_pass(bool update, bool then_integrate) {
+  const std::size_t nchunks = force_chunks();
+  chunk_wall_.assign(nchunks * 18, 0.0);
+  chunk_disp_.assign(nchunks, 0.0);
+  if (!sync_) sync_ = std::make_unique<ThreadSync>();
+  sync_->resize(nchunks);
+  if (chunk_time_.size() != 2 * nchunks) {
+    chunk_cost_.clear();  // until measured: equal shares
+    chunk_time_.assign(2 * nchunks, 0.0);
+  }
+  pass_.update = update;
+  pass_.integrate = then_integrate;
+  pass_.kick = started_ ? dt_ : 0.5 * dt_;
+  pass_.number = ++force_passes_;  // wraps: only equality with the current pass counts
+  pass_.team = 1;
+}
+
+void Simulation::force_pass_share(std::size_t t, std::size_t T) {
   const std::size_t n = p_.n;
   const std::size_t kChunk = force_chunk_size(n);  // fixed work unit: independent of thread count
   const std::size_t nchunks = (n + kChunk - 1) / kChunk;
-  chunk_wall_.assign(nchunks * 18, 0.0);
-  chunk_disp_.assign(nchunks, 0.0);
-  const double kick = started_ ? dt_ : 0.5 * dt_;
-  const double dt = dt_;
+  const double kick = pass_.kick, dt = dt_;
+  const bool then_integrate = pass_.integrate;
+  const std::uint32_t pass = pass_.number;
   ForcePass fp;
   fp.p = &p_;
   fp.list = &list_;
@@ -312,65 +364,135 @@ void Simulation::compute_forces(bool update, bool then_integrate) {
   fp.wall_first = wall_first_.data();
   fp.wall_slot = wall_slot_.data();
   fp.dt = dt_;
-  fp.update = update;
+  fp.update = pass_.update;
   const Vec3& g = cfg_.gravity;
   Particles& P = p_;
   const NeighborList& L = list_;
   const ContactLaw& law = *law_;
+  ThreadSync& sync = *sync_;
+  if (t == 0) pass_.team = T;
 
-  if (chunk_done_size_ != nchunks) {
-    chunk_done_ = std::make_unique<std::atomic<std::uint32_t>[]>(nchunks);
-    chunk_done_size_ = nchunks;
-  }
-  std::atomic<std::uint32_t>* done = chunk_done_.get();
-  const std::uint32_t pass = ++force_passes_;  // wraps: only equality with the current pass counts
-
-  // Each chunk: its pair pass, then (once the chunks with pairs into it have had theirs,
-  // see NeighborList::chunk_dep) the rest of its force and the next kick and drift, while
-  // its particles are still in cache. Chunks are handed out in ascending order to the
-  // next free thread: a thread only ever waits for pair passes of lower chunks, which
-  // never wait themselves, and the threads stay balanced although chunks differ much in
-  // cost (the dense bottom of a settling bed, the dilute top).
-#pragma omp parallel if (nchunks > 1)
-  {
-#pragma omp for schedule(dynamic, 1) nowait  // the end of the region is the barrier
-    for (std::size_t c = 0; c < nchunks; ++c) {
-      const std::size_t i0 = c * kChunk, i1 = std::min(n, (c + 1) * kChunk);
-      law.pair_pass(fp, i0, i1);
-      done[c].store(pass, std::memory_order_release);
-      done[c].notify_all();
-      for (std::size_t d = L.chunk_dep[c]; d < c; ++d) wait_for_pass(done[d], pass);
-      // Each particle sums its pairs in a fixed order (the pair pass: shares from owners in
-      // its chunk, own pairs by ascending j; then owners in earlier chunks by ascending i):
-      // independent of the thread count.
-      for (std::size_t i = i0; i < i1; ++i) {
-        double f0 = 0, f1 = 0, f2 = 0, t0 = 0, t1 = 0, t2 = 0;
-        for (std::size_t k = L.rfirst[i]; k < L.rfirst[i + 1]; ++k) {
-          const double* pf = &L.cross_force[k * 6];  // zero while the pair is inactive
-          f0 -= pf[0]; f1 -= pf[1]; f2 -= pf[2];
-          t0 += pf[3]; t1 += pf[4]; t2 += pf[5];
-        }
-        // Torque R_i Σ (n × F_t) over all the particle's contacts.
-        const double ri = P.radius[i];
-        double* f = &P.f[3 * i];
-        double* t = &P.t[3 * i];
-        f[0] += f0; f[1] += f1; f[2] += f2;
-        t[0] = ri * (t[0] + t0); t[1] = ri * (t[1] + t1); t[2] = ri * (t[2] + t2);
+  // Pair pass of chunk c: its own pairs, shares to its own particles at once and to later
+  // chunks' particles through cross-force slots.
+  auto pair_part = [&](std::size_t c) {
+    law.pair_pass(fp, c * kChunk, std::min(n, (c + 1) * kChunk));
+    if (T > 1) sync.publish(sync.chunk(c).pass, pass);
+  };
+  // The rest of chunk c, once it and the chunks with pairs into it have had their pair pass
+  // (see NeighborList::chunk_dep): cross shares, walls, gravity, and the next kick and drift
+  // while its particles are still in cache.
+  auto wait_deps = [&](std::size_t c) {
+    for (std::size_t d = L.chunk_dep[c]; d <= c; ++d) sync.wait_for(sync.chunk(d).pass, pass);
+  };
+  auto rest_part = [&](std::size_t c) {
+    const std::size_t i0 = c * kChunk, i1 = std::min(n, (c + 1) * kChunk);
+    // Each particle sums its pairs in a fixed order (the pair pass: shares from owners in
+    // its chunk, own pairs by ascending j; then owners in earlier chunks by ascending i):
+    // independent of the thread count.
+    for (std::size_t i = i0; i < i1; ++i) {
+      double f0 = 0, f1 = 0, f2 = 0, t0 = 0, t1 = 0, t2 = 0;
+      for (std::size_t k = L.rfirst[i]; k < L.rfirst[i + 1]; ++k) {
+        const double* pf = &L.cross_force[k * 6];  // zero while the pair is inactive
+        f0 -= pf[0]; f1 -= pf[1]; f2 -= pf[2];
+        t0 += pf[3]; t1 += pf[4]; t2 += pf[5];
       }
-      double ws[6][3] = {};
-      law.wall_pass(fp, i0, i1, ws);
-      // Gravity, fused with the next step's kick and drift (the same operations, in the
-      // same order, as integrate()).
-      if (then_integrate) chunk_disp_[c] = gravity_kick_drift<true, true>(P, L, i0, i1, g, kick, dt);
-      else gravity_kick_drift<true, false>(P, L, i0, i1, g, kick, dt);
-      std::copy(&ws[0][0], &ws[0][0] + 18, &chunk_wall_[c * 18]);
+      // Torque R_i Σ (n × F_t) over all the particle's contacts.
+      const double ri = P.radius[i];
+      double* f = &P.f[3 * i];
+      double* tq = &P.t[3 * i];
+      f[0] += f0; f[1] += f1; f[2] += f2;
+      tq[0] = ri * (tq[0] + t0); tq[1] = ri * (tq[1] + t1); tq[2] = ri * (tq[2] + t2);
+    }
+    double ws[6][3] = {};
+    law.wall_pass(fp, i0, i1, ws);
+    // Gravity, fused with the next step's kick and drift (the same operations, in the
+    // same order, as integrate()).
+    if (then_integrate) chunk_disp_[c] = gravity_kick_drift<true, true>(P, L, i0, i1, g, kick, dt);
+    else gravity_kick_drift<true, false>(P, L, i0, i1, g, kick, dt);
+    std::copy(&ws[0][0], &ws[0][0] + 18, &chunk_wall_[c * 18]);
+  };
+
+  if (T == 1) {
+    for (std::size_t c = 0; c < nchunks; ++c) {
+      pair_part(c);
+      rest_part(c);
+    }
+    return;
+  }
+  // Threads work in pairs on contiguous segments of chunks, one upwards from the bottom of
+  // the segment, the other downwards from its top, each claiming chunk after chunk until
+  // they meet: however the chunks differ in cost (the dense bottom of a settling bed, the
+  // dilute top) and whichever thread the system delays, both finish within about one
+  // chunk of each other. The upward thread does the rest of each chunk right after its
+  // pair pass; the downward one as soon as the pair passes it depends on are its own,
+  // and the rest of its last chunks once the upward thread has passed them. Waits only
+  // go to lower chunks, whose pair passes never wait: no deadlock. With more than two
+  // threads the segments (one per pair) are split by measured cost, the segment's bottom
+  // chunks that depend on the segment below done last.
+  const bool timed = T > 2;
+  using Clock = std::chrono::steady_clock;
+  // Work times (waits excluded) go to chunk_time_[2c] and [2c + 1]: the pair pass and the
+  // rest of a chunk may run on different threads at the same time.
+  auto run = [&](std::size_t c, bool with_pair, bool with_rest) {
+    Clock::time_point t0;
+    if (with_pair) {
+      if (timed) t0 = Clock::now();
+      pair_part(c);
+      if (timed) chunk_time_[2 * c] = std::chrono::duration<double>(Clock::now() - t0).count();
+    }
+    if (with_rest) {
+      wait_deps(c);
+      if (timed) t0 = Clock::now();
+      rest_part(c);
+      if (timed) chunk_time_[2 * c + 1] = std::chrono::duration<double>(Clock::now() - t0).count();
+    }
+  };
+  auto claim = [&](std::size_t c) { return ThreadSync::take(sync.chunk(c).claim, pass); };
+  const std::size_t lo = balanced_split(chunk_cost_, nchunks, T, t & ~std::size_t{1});
+  const std::size_t hi = balanced_split(chunk_cost_, nchunks, T, std::min(T, (t | 1) + 1));
+  if (lo == hi) return;
+  // Rests of the downward thread's chunks left when the two meet are shared the same way.
+  auto claim_rest = [&](std::size_t c) { return ThreadSync::take(sync.chunk(c).rest_claim, pass); };
+  if (t % 2 == 0) {
+    std::size_t c = lo;
+    for (; c < hi && claim(c); ++c) run(c, true, L.chunk_dep[c] >= lo);
+    for (std::size_t d = c; d < hi && claim_rest(d); ++d) run(d, false, true);
+    for (std::size_t d = lo; d < c; ++d)
+      if (L.chunk_dep[d] < lo) run(d, false, true);
+  } else {
+    std::size_t next_rest = hi;  // the rests of chunks [next_rest, hi) are taken
+    std::size_t c = hi;
+    for (; c > lo && claim(c - 1); --c) {
+      run(c - 1, true, false);
+      while (next_rest > c - 1 && L.chunk_dep[next_rest - 1] >= c - 1 && claim_rest(next_rest - 1)) run(--next_rest, false, true);
+    }
+    while (next_rest > c && claim_rest(next_rest - 1)) run(--next_rest, false, true);
+  }
+}
+
+void Simulation::end_force_pass() {
+  const std::size_t nchunks = force_chunks();
+  if (pass_.team > 2) {  // segments by cost (see force_pass_share)
+    const bool first = chunk_cost_.empty();
+    chunk_cost_.resize(nchunks);
+    for (std::size_t c = 0; c < nchunks; ++c) {
+      // Smoothed over a few passes; a chunk interrupted by the system counts little.
+      const double m = chunk_time_[2 * c] + chunk_time_[2 * c + 1];
+      chunk_cost_[c] = first ? m : 0.75 * chunk_cost_[c] + 0.25 * std::min(m, 4.0 * chunk_cost_[c]);
     }
   }
-  if (then_integrate) finish_integrate();
+  if (pass_.integrate) finish_integrate();
   for (int w = 0; w < 6; ++w) wall_force_[w].setZero();
   for (std::size_t c = 0; c < nchunks; ++c)
     for (int w = 0; w < 6; ++w)
       for (int a = 0; a < 3; ++a) wall_force_[w][a] += chunk_wall_[c * 18 + 3 * w + a];
+}
+
+void Simulation::compute_forces(bool update, bool then_integrate) {
+  begin_force_pass(update, then_integrate);
+#pragma omp parallel if (force_chunks() > 1)
+  force_pass_share(thread_index(), team_size());
+  end_force_pass();
 }
 
 void Simulation::finish_integrate() {
@@ -409,13 +531,32 @@ void Simulation::grow_radii() {
 void Simulation::step(std::uint64_t n) {
   if (n == 0) return;
   integrate();
-  for (std::uint64_t s = 0; s < n; ++s) {
+  for (std::uint64_t s = 0; s < n;) {
     if (step_ < cfg_.growth_steps) grow_radii();
     if (need_rebuild_) rebuild();
+    // The steps up to the next rebuild share one parallel region: a step costs two
+    // barriers of our own (see ThreadSync) instead of a fork and a join, whatever
+    // OMP_WAIT_POLICY says. The book-keeping between passes is serial.
     // The last step of a batch stops at F_{n+1} so that the state can be read consistently.
-    compute_forces(true, s + 1 < n);
-    ++step_;
-    time_ = static_cast<double>(step_) * dt_;
+    begin_force_pass(true, s + 1 < n);
+    bool more = true;
+#pragma omp parallel if (force_chunks() > 1)
+    {
+      const std::size_t T = team_size(), t = thread_index();
+      while (more) {
+        force_pass_share(t, T);
+        sync_->barrier(T);
+        if (t == 0) {
+          end_force_pass();
+          ++step_;
+          time_ = static_cast<double>(step_) * dt_;
+          ++s;
+          more = s < n && !need_rebuild_ && step_ >= cfg_.growth_steps;
+          if (more) begin_force_pass(true, s + 1 < n);
+        }
+        sync_->barrier(T);
+      }
+    }
   }
 }
 

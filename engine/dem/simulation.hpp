@@ -16,6 +16,7 @@
 #include "engine/dem/contact_params.hpp"
 #include "engine/dem/neighbor_list.hpp"
 #include "engine/dem/particle_state.hpp"
+#include "engine/dem/thread_sync.hpp"
 
 namespace grainflow::dem {
 
@@ -127,6 +128,13 @@ private:
   // F_n at the current positions (history updated if asked), optionally fused with the
   // next kick + drift.
   void compute_forces(bool update, bool then_integrate);
+  // compute_forces in three parts, so that a parallel region can span several steps:
+  // serial set-up, the share of thread t of T (every thread of the team calls it), serial
+  // end (wall forces, displacement check).
+  std::size_t force_chunks() const;
+  void begin_force_pass(bool update, bool then_integrate);
+  void force_pass_share(std::size_t t, std::size_t T);
+  void end_force_pass();
   void finish_integrate();
   void update_wall_near();
   void grow_radii();  // FINDRAD step
@@ -144,9 +152,17 @@ private:
   std::vector<double> final_radius_;     // radius growth target
   std::vector<double> chunk_wall_;   // per chunk 6×3
   std::vector<double> chunk_disp_;   // per chunk max squared displacement
-  // Per chunk: the number of the force pass whose pair pass it has finished last.
-  std::unique_ptr<std::atomic<std::uint32_t>[]> chunk_done_;
-  std::size_t chunk_done_size_ = 0;
+  std::unique_ptr<ThreadSync> sync_;  // chunk flags and barrier of the force passes
+  // Per chunk: smoothed seconds of its force work, and the last pass's of its pair pass
+  // and rest, from which more than two threads divide the chunks into segments (timing
+  // only moves work between threads, never changes a result).
+  std::vector<double> chunk_cost_, chunk_time_;
+  struct PassPlan {
+    bool update = true, integrate = false;
+    double kick = 0.0;
+    std::uint32_t number = 0;
+    std::size_t team = 1;  // threads that took part
+  } pass_;
   std::uint32_t force_passes_ = 0;
   double dt_ = 0.0, dt_limit_ = 0.0, skin_ = 0.0, time_ = 0.0;
   std::uint64_t step_ = 0;

@@ -269,13 +269,15 @@ TEST(DemEnergy, ConservedForElasticFrictionlessSpheres) {
 TEST(DemParallel, PeriodicWaltonRunIsThreadCountIndependentAcrossForceChunks) {
   // Pairs whose partner lies in a later force chunk go through the gathered pair slots,
   // the others are scattered at once; periodic images add pairs that span the whole index
-  // range. 1, 2 and 3 threads must give the same bits.
+  // range. 1 to 5 threads must give the same bits: two threads share the chunks from both
+  // ends, more split them into segments by measured cost (an odd one out works alone), and
+  // more threads than cores make the waits sleep.
   Config c = walton_box(10, 10, 8, 0.8, 0.3, 5);
   c.box.periodic = {true, true, false};
   ASSERT_GE(c.particles.size(), 3 * force_chunk_size(c.particles.size()));
   const int saved = omp_get_max_threads();
   std::vector<Simulation> runs;
-  for (int t : {1, 2, 3}) {
+  for (int t : {1, 2, 3, 4, 5}) {
     omp_set_num_threads(t);
     runs.emplace_back(c);
     runs.back().step(600);
@@ -294,6 +296,34 @@ TEST(DemParallel, PeriodicWaltonRunIsThreadCountIndependentAcrossForceChunks) {
     for (int w = 0; w < 6; ++w) EXPECT_EQ(a.stats().wall_force[w], runs[r].stats().wall_force[w]);
   }
   EXPECT_GT(a.stats().contacts, 50u);
+}
+
+TEST(DemParallel, PairsAcrossTheWholeIndexRangeKeepThreadCountIndependence) {
+  // Periodic along z with the lattice filling the height: the bottom layer touches the
+  // top one, so the top chunks depend on chunk 0 while the chunks below them do not. A
+  // thread must then finish chunks out of order (segments of 3+ threads, the meeting of
+  // two): every rest done once, after the pair passes it needs.
+  Config c = walton_box(10, 10, 16, 0.8, 0.3, 11);
+  c.box.periodic = {true, true, true};
+  c.box.hi.z() = 16 * 1.05 * kD;
+  c.gravity = Vec3::Zero();
+  const int saved = omp_get_max_threads();
+  std::vector<Simulation> runs;
+  for (int t : {1, 2, 3, 4, 5}) {
+    omp_set_num_threads(t);
+    runs.emplace_back(c);
+    runs.back().step(400);
+  }
+  omp_set_num_threads(saved);
+  const auto& dep = runs[0].neighbors().chunk_dep;
+  ASSERT_GE(dep.size(), 8u);
+  EXPECT_EQ(dep.back(), 0u);               // the top chunk depends on the bottom one
+  EXPECT_GE(dep[dep.size() / 2], 2u);      // a middle one does not
+  for (std::size_t r = 1; r < runs.size(); ++r) {
+    EXPECT_TRUE(same_state(runs[0], runs[r])) << "threads = " << r + 1;
+    EXPECT_EQ(runs[0].neighbors().hist, runs[r].neighbors().hist);
+  }
+  EXPECT_GT(runs[0].stats().contacts, 100u);
 }
 
 TEST(DemParallel, OneAndTwoThreadsGiveBitwiseEqualResults) {
