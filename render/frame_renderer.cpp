@@ -19,6 +19,84 @@ std::pair<double, double> finite_range(std::span<const float> values) {
   return {lo, hi};
 }
 
+namespace {
+
+// Disks with their images across the periodic edges of the box [lo, hi] (x and y): a disk
+// reaching past an edge is repeated one period away, diagonally too at a corner.
+void add_periodic_images(const Snapshot& s, std::span<const float> values, std::vector<float>& pos,
+                         std::vector<float>& vals) {
+  pos.assign(s.pos_radius.begin(), s.pos_radius.end());
+  vals.assign(values.begin(), values.end());
+  const float lo[2] = {float(s.lo.x()), float(s.lo.y())}, hi[2] = {float(s.hi.x()), float(s.hi.y())};
+  for (std::size_t i = 0; i < s.size(); ++i) {
+    const float* d = &s.pos_radius[4 * i];
+    float shift[2][3];  // per axis: none and up to one image
+    int count[2];
+    for (int a = 0; a < 2; ++a) {
+      count[a] = 1;
+      shift[a][0] = 0.0f;
+      if (!s.periodic[std::size_t(a)]) continue;
+      const float len = hi[a] - lo[a];
+      if (d[a] - d[3] < lo[a]) shift[a][count[a]++] = len;
+      else if (d[a] + d[3] > hi[a]) shift[a][count[a]++] = -len;
+    }
+    for (int ax = 0; ax < count[0]; ++ax)
+      for (int ay = 0; ay < count[1]; ++ay) {
+        if (ax == 0 && ay == 0) continue;
+        pos.insert(pos.end(), {d[0] + shift[0][ax], d[1] + shift[1][ay], d[2], d[3]});
+        if (!values.empty()) vals.push_back(values[i]);
+      }
+  }
+}
+
+// Restricts drawing to the box's pixels along its periodic axes (within any scissor box
+// already set, e.g. a panel's) and restores the previous state when it goes.
+class PeriodicClip {
+public:
+  PeriodicClip(const GlApi& gl, const Snapshot& s, const ViewTransform& view, int width, int height) : gl_(gl) {
+    was_enabled_ = gl.IsEnabled(GL_SCISSOR_TEST) == GL_TRUE;
+    gl.GetIntegerv(GL_SCISSOR_BOX, old_box_);
+    GLint vp[4] = {0, 0, width, height};
+    gl.GetIntegerv(GL_VIEWPORT, vp);
+    const Mat4 m = view.view_proj();
+    auto pixel = [&](double x, double y) {
+      const Eigen::Vector4f c = m * Eigen::Vector4f(float(x), float(y), 0.f, 1.f);
+      return Eigen::Vector2d(vp[0] + (c.x() / c.w() + 1) * 0.5 * vp[2], vp[1] + (c.y() / c.w() + 1) * 0.5 * vp[3]);
+    };
+    const Eigen::Vector2d a = pixel(s.lo.x(), s.lo.y()), b = pixel(s.hi.x(), s.hi.y());
+    int x0 = vp[0], x1 = vp[0] + vp[2], y0 = vp[1], y1 = vp[1] + vp[3];
+    if (s.periodic[0]) {
+      x0 = int(std::lround(std::min(a.x(), b.x())));
+      x1 = int(std::lround(std::max(a.x(), b.x())));
+    }
+    if (s.periodic[1]) {
+      y0 = int(std::lround(std::min(a.y(), b.y())));
+      y1 = int(std::lround(std::max(a.y(), b.y())));
+    }
+    if (was_enabled_) {
+      x0 = std::max(x0, old_box_[0]);
+      y0 = std::max(y0, old_box_[1]);
+      x1 = std::min(x1, old_box_[0] + old_box_[2]);
+      y1 = std::min(y1, old_box_[1] + old_box_[3]);
+    }
+    gl.Enable(GL_SCISSOR_TEST);
+    gl.Scissor(x0, y0, std::max(0, x1 - x0), std::max(0, y1 - y0));
+  }
+  ~PeriodicClip() {
+    gl_.Scissor(old_box_[0], old_box_[1], old_box_[2], old_box_[3]);
+    if (!was_enabled_) gl_.Disable(GL_SCISSOR_TEST);
+  }
+  PeriodicClip(const PeriodicClip&) = delete;
+  PeriodicClip& operator=(const PeriodicClip&) = delete;
+
+private:
+  const GlApi& gl_;
+  bool was_enabled_ = false;
+  GLint old_box_[4] = {0, 0, 0, 0};
+};
+
+}  // namespace
+
 FrameRenderer::FrameRenderer(GlContext& context, int width, int height, int msaa_samples)
     : ctx_(context), fb_(context.gl(), width, height, msaa_samples), particles_(context.gl()), segments_(context.gl()) {}
 
@@ -77,8 +155,15 @@ void FrameRenderer::draw_particles(const Snapshot& s, const FrameStyle& style, c
     }
   }
 
-  if (s.dim == 2) particles_.draw_disks(view, w, h, s.pos_radius, values_, pstyle);
-  else particles_.draw_spheres(view, w, h, s.pos_radius, values_, pstyle);
+  if (s.dim == 2 && (s.periodic[0] || s.periodic[1])) {
+    add_periodic_images(s, values_, wrapped_pos_, wrapped_values_);
+    const PeriodicClip clip(ctx_.gl(), s, view, w, h);
+    particles_.draw_disks(view, w, h, wrapped_pos_, wrapped_values_, pstyle);
+  } else if (s.dim == 2) {
+    particles_.draw_disks(view, w, h, s.pos_radius, values_, pstyle);
+  } else {
+    particles_.draw_spheres(view, w, h, s.pos_radius, values_, pstyle);
+  }
 }
 
 void FrameRenderer::draw_geometry(const Snapshot& s, const FrameStyle& style, const ViewTransform& view, int w,

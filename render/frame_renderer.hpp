@@ -63,6 +63,7 @@ private:
   SegmentLayer segments_;
   Image image_;
   std::vector<float> values_;  // normalised attribute, reused across frames
+  std::vector<float> wrapped_pos_, wrapped_values_;  // with periodic images, reused
   std::vector<Segment> geometry_;
   std::unique_ptr<PanelRenderer> panels_;
 };

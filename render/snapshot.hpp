@@ -3,6 +3,7 @@
 // labels. Built by the scene layer from engine state or from particle files; the renderer
 // knows nothing about physics.
 #pragma once
+#include <array>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -32,6 +33,9 @@ struct Snapshot {
   int dim = 2;                        // 2: disks in the x–y plane; 3: spheres
   Eigen::Vector3d lo{0, 0, 0};        // domain box
   Eigen::Vector3d hi{1, 1, 1};
+  // Periodic axes of the box: a 2D disk across a periodic edge is drawn on both sides,
+  // clipped to the box (particle files mark the axes pbc="T").
+  std::array<bool, 3> periodic{false, false, false};
   std::vector<float> pos_radius;      // x, y, z, radius per particle (world units)
   std::vector<float> attribute;       // raw colour attribute per particle, or empty
   std::string attribute_name;         // e.g. "speed", "type" — for labels

@@ -14,6 +14,7 @@ namespace grainflow::render {
   X(PFNGLGETERRORPROC, GetError)                                       \
   X(PFNGLENABLEPROC, Enable)                                           \
   X(PFNGLDISABLEPROC, Disable)                                         \
+  X(PFNGLISENABLEDPROC, IsEnabled)                                     \
   X(PFNGLBLENDFUNCPROC, BlendFunc)                                     \
   X(PFNGLBLENDFUNCSEPARATEPROC, BlendFuncSeparate)                     \
   X(PFNGLDEPTHFUNCPROC, DepthFunc)                                     \

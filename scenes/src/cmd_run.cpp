@@ -69,6 +69,7 @@ void to_particle_frame(const render::Snapshot& s, core::ParticleFrame& f) {
   f.has_box = true;
   f.box_lo = s.lo;
   f.box_hi = s.hi;
+  f.periodic = s.periodic;
   for (std::size_t i = 0; i < s.size(); ++i) {
     const float* p = &s.pos_radius[4 * i];
     f.id.push_back(std::int64_t(i + 1));

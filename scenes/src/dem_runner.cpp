@@ -287,6 +287,7 @@ public:
     s.dim = 3;
     s.lo = b.lo;
     s.hi = b.hi;
+    s.periodic = b.periodic;
     s.time = sim_.time();
     const std::size_t n = sim_.size();
     s.pos_radius.resize(4 * n);

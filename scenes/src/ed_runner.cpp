@@ -102,6 +102,7 @@ public:
     s.dim = 2;
     s.lo = {0, 0, 0};
     s.hi = {cfg.lx, cfg.ly, 0};
+    s.periodic = {cfg.periodic_x, cfg.periodic_y, false};
     s.time = sim_.time();
     const auto& disks = sim_.disks();
     // Slots of disks that left an open stream are empty: only present disks are drawn.

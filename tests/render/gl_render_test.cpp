@@ -150,6 +150,32 @@ TEST_P(GlRender, LargeParticlesUseQuadsAndStayRound) {
   EXPECT_NEAR(covered / expected, 1.0, 0.02);
 }
 
+TEST_P(GlRender, PeriodicDisksShowTheirImageAndAreClippedToTheBox) {
+  // A disk across the right edge of a box periodic in x: its image shows at the left edge
+  // and nothing is drawn right of the box; without the flag, the reverse.
+  Snapshot s;
+  s.lo = {0, 0, 0};
+  s.hi = {10, 10, 0};
+  s.pos_radius = {9.5f, 5.f, 0.f, 1.5f};
+  FrameStyle style;
+  style.draw_domain = false;
+  style.background = {0, 0, 0};
+  FrameRenderer r(*ctx_, 200, 100);
+  // The box fills 94 % of the height, centred: 9.4 px per unit, x from 53 px.
+  const auto column = [](double x) { return int(std::lround(53 + 9.4 * x)); };
+  for (bool periodic : {true, false}) {
+    s.periodic = {periodic, false, false};
+    const Image& img = r.render(s, style);
+    const auto lit = [&](double x) {
+      const auto* p = img.pixel(column(x), 50);
+      return p[0] + p[1] + p[2] > 0;
+    };
+    EXPECT_TRUE(lit(9.0)) << "periodic = " << periodic;           // the disk itself
+    EXPECT_EQ(lit(0.4), periodic) << "periodic = " << periodic;   // its image
+    EXPECT_EQ(lit(10.5), !periodic) << "periodic = " << periodic; // beyond the box
+  }
+}
+
 // A dense block of spheres: culling hidden spheres on the CPU draws far fewer of them and
 // leaves the picture unchanged, in perspective and in orthographic views.
 TEST_P(GlRender, SphereCullingKeepsThePicture) {

@@ -312,6 +312,7 @@ TEST(CliRun, DemCouetteTopLayerFollowsTheSlidingWall) {
     }
   }
   ASSERT_TRUE(contains(last_header, "vx:R:1")) << last_header;
+  EXPECT_TRUE(contains(last_header, "pbc=\"T T F\"")) << last_header;  // periodic along the wall
   ASSERT_EQ(zvx.size(), 300u);
   double top = 0, bottom = 0;
   int ntop = 0, nbottom = 0;
