@@ -6,6 +6,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <initializer_list>
 #include <numbers>
 #include <sstream>
 
@@ -266,6 +267,21 @@ TEST(DemEnergy, ConservedForElasticFrictionlessSpheres) {
 }
 
 #ifdef _OPENMP
+namespace {
+// The same run with each thread count in turn (the global OpenMP setting is restored).
+std::vector<Simulation> run_with_threads(const Config& c, std::uint64_t steps, std::initializer_list<int> threads) {
+  const int saved = omp_get_max_threads();
+  std::vector<Simulation> runs;
+  for (int t : threads) {
+    omp_set_num_threads(t);
+    runs.emplace_back(c);
+    runs.back().step(steps);
+  }
+  omp_set_num_threads(saved);
+  return runs;
+}
+}  // namespace
+
 TEST(DemParallel, PeriodicWaltonRunIsThreadCountIndependentAcrossForceChunks) {
   // Pairs whose partner lies in a later force chunk go through the gathered pair slots,
   // the others are scattered at once; periodic images add pairs that span the whole index
@@ -275,14 +291,7 @@ TEST(DemParallel, PeriodicWaltonRunIsThreadCountIndependentAcrossForceChunks) {
   Config c = walton_box(10, 10, 8, 0.8, 0.3, 5);
   c.box.periodic = {true, true, false};
   ASSERT_GE(c.particles.size(), 3 * force_chunk_size(c.particles.size()));
-  const int saved = omp_get_max_threads();
-  std::vector<Simulation> runs;
-  for (int t : {1, 2, 3, 4, 5}) {
-    omp_set_num_threads(t);
-    runs.emplace_back(c);
-    runs.back().step(600);
-  }
-  omp_set_num_threads(saved);
+  const std::vector<Simulation> runs = run_with_threads(c, 600, {1, 2, 3, 4, 5});
   const Simulation& a = runs[0];
   std::size_t cross = 0;
   const std::size_t K = force_chunk_size(a.size());
@@ -307,14 +316,7 @@ TEST(DemParallel, PairsAcrossTheWholeIndexRangeKeepThreadCountIndependence) {
   c.box.periodic = {true, true, true};
   c.box.hi.z() = 16 * 1.05 * kD;
   c.gravity = Vec3::Zero();
-  const int saved = omp_get_max_threads();
-  std::vector<Simulation> runs;
-  for (int t : {1, 2, 3, 4, 5}) {
-    omp_set_num_threads(t);
-    runs.emplace_back(c);
-    runs.back().step(400);
-  }
-  omp_set_num_threads(saved);
+  const std::vector<Simulation> runs = run_with_threads(c, 400, {1, 2, 3, 4, 5});
   const auto& dep = runs[0].neighbors().chunk_dep;
   ASSERT_GE(dep.size(), 8u);
   EXPECT_EQ(dep.back(), 0u);               // the top chunk depends on the bottom one
@@ -327,15 +329,8 @@ TEST(DemParallel, PairsAcrossTheWholeIndexRangeKeepThreadCountIndependence) {
 }
 
 TEST(DemParallel, OneAndTwoThreadsGiveBitwiseEqualResults) {
-  Config c = bench_config(10, 10, 8);  // 800 spheres: two chunks per thread
-  const int saved = omp_get_max_threads();
-  omp_set_num_threads(1);
-  Simulation a(c);
-  a.step(800);
-  omp_set_num_threads(2);
-  Simulation b(c);
-  b.step(800);
-  omp_set_num_threads(saved);
+  const std::vector<Simulation> runs = run_with_threads(bench_config(10, 10, 8), 800, {1, 2});  // 800 spheres
+  const Simulation &a = runs[0], &b = runs[1];
   EXPECT_TRUE(same_state(a, b));
   EXPECT_EQ(a.neighbors().hist, b.neighbors().hist);
   EXPECT_GT(a.stats().contacts, 50u);

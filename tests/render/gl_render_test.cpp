@@ -71,6 +71,25 @@ Snapshot sphere_scene() {
   return s;
 }
 
+// One disk of radius r at (x, y) in the square 2D box [0, side]².
+Snapshot one_disk(double side, float x, float y, float r) {
+  Snapshot s;
+  s.lo = {0, 0, 0};
+  s.hi = {side, side, 0};
+  s.pos_radius = {x, y, 0.f, r};
+  return s;
+}
+
+bool lit(const Image& img, int x, int y) { return img.pixel(x, y)[0] + img.pixel(x, y)[1] + img.pixel(x, y)[2] > 0; }
+
+// No domain outline, black background: a pixel is lit only where a particle is drawn.
+FrameStyle plain_style() {
+  FrameStyle style;
+  style.draw_domain = false;
+  style.background = {0, 0, 0};
+  return style;
+}
+
 class GlRender : public ::testing::TestWithParam<Backend> {
 protected:
   void SetUp() override {
@@ -116,32 +135,17 @@ TEST_P(GlRender, DeterministicAcrossFrames) {
 
 TEST_P(GlRender, ReadbackRowOrderIsTopFirst) {
   // One big disk in the upper half of the domain must appear in the upper rows.
-  Snapshot s;
-  s.lo = {0, 0, 0};
-  s.hi = {10, 10, 0};
-  s.pos_radius = {5.f, 8.f, 0.f, 1.5f};
-  FrameStyle style;
-  style.draw_domain = false;
-  style.background = {0, 0, 0};
   FrameRenderer r(*ctx_, 100, 100);
-  const Image& img = r.render(s, style);
-  const auto lit = [&](int x, int y) { return img.pixel(x, y)[0] + img.pixel(x, y)[1] + img.pixel(x, y)[2] > 0; };
-  EXPECT_TRUE(lit(50, 21));   // world y = 8 → image row ≈ 100·(1 − 0.8) (+ margin)
-  EXPECT_FALSE(lit(50, 79));  // world y = 2 is empty
+  const Image& img = r.render(one_disk(10, 5.f, 8.f, 1.5f), plain_style());
+  EXPECT_TRUE(lit(img, 50, 21));   // world y = 8 → image row ≈ 100·(1 − 0.8) (+ margin)
+  EXPECT_FALSE(lit(img, 50, 79));  // world y = 2 is empty
 }
 
 TEST_P(GlRender, LargeParticlesUseQuadsAndStayRound) {
   // A disk wider than the driver's largest point sprite: drawn by the quad path, the
   // filled area matches π r² within 2 %.
-  Snapshot s;
-  s.lo = {0, 0, 0};
-  s.hi = {1, 1, 0};
-  s.pos_radius = {0.5f, 0.5f, 0.f, 0.4f};
-  FrameStyle style;
-  style.draw_domain = false;
-  style.background = {0, 0, 0};
   FrameRenderer r(*ctx_, 800, 800);
-  const Image& img = r.render(s, style);
+  const Image& img = r.render(one_disk(1, 0.5f, 0.5f, 0.4f), plain_style());
   double covered = 0;
   for (int y = 0; y < 800; ++y)
     for (int x = 0; x < 800; ++x) covered += img.pixel(x, y)[3] > 0 && img.pixel(x, y)[1] > 0 ? 1 : 0;
@@ -153,26 +157,16 @@ TEST_P(GlRender, LargeParticlesUseQuadsAndStayRound) {
 TEST_P(GlRender, PeriodicDisksShowTheirImageAndAreClippedToTheBox) {
   // A disk across the right edge of a box periodic in x: its image shows at the left edge
   // and nothing is drawn right of the box; without the flag, the reverse.
-  Snapshot s;
-  s.lo = {0, 0, 0};
-  s.hi = {10, 10, 0};
-  s.pos_radius = {9.5f, 5.f, 0.f, 1.5f};
-  FrameStyle style;
-  style.draw_domain = false;
-  style.background = {0, 0, 0};
+  Snapshot s = one_disk(10, 9.5f, 5.f, 1.5f);
   FrameRenderer r(*ctx_, 200, 100);
   // The box fills 94 % of the height, centred: 9.4 px per unit, x from 53 px.
   const auto column = [](double x) { return int(std::lround(53 + 9.4 * x)); };
   for (bool periodic : {true, false}) {
     s.periodic = {periodic, false, false};
-    const Image& img = r.render(s, style);
-    const auto lit = [&](double x) {
-      const auto* p = img.pixel(column(x), 50);
-      return p[0] + p[1] + p[2] > 0;
-    };
-    EXPECT_TRUE(lit(9.0)) << "periodic = " << periodic;           // the disk itself
-    EXPECT_EQ(lit(0.4), periodic) << "periodic = " << periodic;   // its image
-    EXPECT_EQ(lit(10.5), !periodic) << "periodic = " << periodic; // beyond the box
+    const Image& img = r.render(s, plain_style());
+    EXPECT_TRUE(lit(img, column(9.0), 50)) << "periodic = " << periodic;           // the disk itself
+    EXPECT_EQ(lit(img, column(0.4), 50), periodic) << "periodic = " << periodic;   // its image
+    EXPECT_EQ(lit(img, column(10.5), 50), !periodic) << "periodic = " << periodic; // beyond the box
   }
 }
 
