@@ -122,6 +122,20 @@ std::size_t team_size() {
 
 }  // namespace
 
+int thread_count() {
+#ifdef _OPENMP
+  return omp_get_max_threads();
+#else
+  return 1;
+#endif
+}
+
+void set_thread_count([[maybe_unused]] int n) {
+#ifdef _OPENMP
+  if (n > 0) omp_set_num_threads(n);
+#endif
+}
+
 Simulation::Simulation(Config cfg) : cfg_(std::move(cfg)) { setup(); }
 Simulation::Simulation(Config cfg, Restore) : cfg_(std::move(cfg)) {}
 Simulation::~Simulation() = default;

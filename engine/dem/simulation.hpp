@@ -171,6 +171,11 @@ private:
   std::array<Vec3, 6> wall_force_{};
 };
 
+// Threads the force passes use: OMP_NUM_THREADS or all cores unless set (1 without
+// OpenMP). Results do not depend on it.
+int thread_count();
+void set_thread_count(int n);
+
 // Initial positions (seed 000 §2.1: lattice, random, or read from a list).
 // Simple cubic lattice with spacing a, first site at lo + a/2 per axis, x fastest.
 std::vector<Vec3> simple_cubic_lattice(const Vec3& lo, double spacing, int nx, int ny, int nz);

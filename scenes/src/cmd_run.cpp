@@ -15,6 +15,7 @@
 
 #include "engine/core/error.hpp"
 #include "engine/core/xyz_writer.hpp"
+#include "engine/dem/simulation.hpp"
 #include "render/context/gl_context.hpp"
 #include "render/frame_renderer.hpp"
 #include "render/output/fan_out_sink.hpp"
@@ -40,6 +41,7 @@ struct RunArgs {
   std::string out_dir;
   std::vector<std::string> overrides;
   bool force = false;
+  int threads = 0;  // 0: as OMP_NUM_THREADS says, else all cores
 };
 
 render::Rgb parse_colour(const std::string& hex) {
@@ -83,6 +85,7 @@ void to_particle_frame(const render::Snapshot& s, core::ParticleFrame& f) {
 
 int run_scene(const RunArgs& a) {
   const Scene scene = load_scene(a.scene, a.overrides);
+  if (a.threads > 0) dem::set_thread_count(a.threads);
   if (scene.get<bool>("output.fields"))
     throw Error("output.fields = true: field files are not written yet; allowed: false");
   if (scene.get<double>("output.checkpoint_every") > 0)
@@ -241,6 +244,9 @@ void setup_run_command(CLI::App& app, int& status) {
   cmd->add_option("--set", args->overrides, "Override a scene key: section.key=value (repeatable)")
       ->allow_extra_args(false);
   cmd->add_flag("--force", args->force, "Replace the results of a previous run in the folder");
+  cmd->add_option("--threads", args->threads,
+                  "Threads of the DEM engine (default: OMP_NUM_THREADS, else all cores; results do not depend on it)")
+      ->check(CLI::PositiveNumber);
   cmd->callback([args, &status] { status = run_scene(*args); });
 }
 

@@ -342,7 +342,10 @@ public:
   double work() const override { return double(sim_.steps()) * double(sim_.size()); }
   std::string work_unit() const override { return "particle-steps"; }
   std::vector<std::pair<std::string, double>> figures() const override {
-    return {{"steps", double(sim_.steps())}, {"particles", double(sim_.size())}, {"dt", sim_.dt()}};
+    return {{"steps", double(sim_.steps())},
+            {"particles", double(sim_.size())},
+            {"dt", sim_.dt()},
+            {"threads", double(dem::thread_count())}};
   }
   std::string state_digest() const override {
     // Positions, velocities and spins in particle order, through the public accessors so

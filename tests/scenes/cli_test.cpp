@@ -376,6 +376,25 @@ TEST(CliRun, DemChainCellsAndAllPairsSearchGiveTheSameBits) {
   EXPECT_NE(da, dc);
 }
 
+TEST(CliRun, DemThreadsOptionKeepsTheBitsAndIsRecorded) {
+  const std::string common = "run " + scenes + "/dem_freefall_box.toml --set 'system.group[0].N=800'"
+                             " --set 'system.box=[0.012,0.012,0.03]' --set run.until=0.01 --set output.png=false"
+                             " --set output.mp4=false --set 'render.size=[32,32]' -o ";
+  const fs::path a = fresh_dir("threads_1"), b = fresh_dir("threads_2");
+  ASSERT_EQ(run(common + a.string() + " --threads 1").status, 0);
+  ASSERT_EQ(run(common + b.string() + " --threads 2").status, 0);
+  EXPECT_EQ(state_digest(a), state_digest(b));
+  auto text = [](const fs::path& dir) {
+    std::ifstream f(dir / "run.json");
+    return std::string((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+  };
+  EXPECT_TRUE(contains(text(a), "\"threads\": 1")) << text(a);
+  EXPECT_TRUE(contains(text(b), "\"threads\": 2")) << text(b);
+  const Result bad = run(common + fresh_dir("threads_0").string() + " --threads 0");
+  EXPECT_NE(bad.status, 0);
+  EXPECT_TRUE(contains(bad.output, "--threads")) << bad.output;
+}
+
 TEST(CliRun, EffectiveSceneResolvesRelativeFilesSoTheRunFolderReruns) {
   const fs::path a = fresh_dir("rerun_a"), b = fresh_dir("rerun_b");
   const std::string opts = " --set run.until=2e-6 --set output.mp4=false --set 'render.size=[32,32]'";
