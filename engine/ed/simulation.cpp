@@ -78,6 +78,8 @@ void Simulation::build(std::vector<DiskInit> disks) {
     dmax = std::max(dmax, 2.0 * d.radius);
     dmin = std::min(dmin, 2.0 * d.radius);
   }
+  if (!(cfg_.reorder_after >= 0.0))
+    throw Error(fmt::format("ed: reorder_after = {} is invalid; it must be ≥ 0 (0: never)", cfg_.reorder_after));
   if (cfg_.min_cell_size < dmax)
     throw Error(fmt::format("ed: min_cell_size = {} is smaller than the largest diameter {}; cells "
                             "must be at least one diameter (seed 003 §2.2)", cfg_.min_cell_size, dmax));
@@ -130,16 +132,19 @@ TimerAgent* Simulation::add_timer(std::unique_ptr<TimerAgent> timer) {
 }
 
 void Simulation::compact(const std::vector<int>& kept) {
+  // `kept` may be any order of distinct present ids: gathered through copies.
   const int n = static_cast<int>(kept.size());
   std::vector<SlotState> states(n);
+  std::vector<Disk> disks(static_cast<std::size_t>(n));
+  std::vector<std::uint32_t> counters(static_cast<std::size_t>(n));
   for (int k = 0; k < n; ++k) {
     const int i = kept[k];
-    s_.disk[k] = s_.disk[i];
-    s_.counter[k] = s_.counter[i];
+    disks[k] = s_.disk[i];
+    counters[k] = s_.counter[i];
     states[k] = s_.slot[i];
   }
-  s_.disk.resize(n);
-  s_.counter.resize(n);
+  s_.disk.assign(disks.begin(), disks.end());
+  s_.counter.assign(counters.begin(), counters.end());
   s_.grid = CellGrid(s_.grid.lx(), s_.grid.ly(), s_.grid.periodic_x(), s_.grid.periodic_y(),
                      cfg_.min_cell_size, std::max(1e-12, [&] {
                        double d = kNever;
@@ -156,6 +161,31 @@ void Simulation::compact(const std::vector<int>& kept) {
   }
   s_.recompute_books();
   restart();
+}
+
+void Simulation::reorder_disks(const std::vector<int>& order) {
+  std::vector<char> seen(static_cast<std::size_t>(s_.size()), 0);
+  for (int i : order) {
+    if (i < 0 || i >= s_.size() || !s_.present(i) || seen[static_cast<std::size_t>(i)])
+      throw Error(fmt::format("ed: reorder_disks: id {} is not a disk present, or comes twice", i));
+    seen[static_cast<std::size_t>(i)] = 1;
+  }
+  if (static_cast<int>(order.size()) != s_.count())
+    throw Error(fmt::format("ed: reorder_disks: {} ids given for {} disks present", order.size(), s_.count()));
+  synchronise();  // cells are rebuilt from positions, which must be current
+  compact(order);
+}
+
+std::vector<int> Simulation::cell_order() const {
+  std::vector<int> order;
+  order.reserve(static_cast<std::size_t>(s_.count()));
+  for (int c = 0; c < s_.grid.size(); ++c) {
+    const std::int32_t* m = s_.grid.members(c);
+    const std::size_t first = order.size();
+    order.insert(order.end(), m, m + s_.grid.count(c));
+    std::sort(order.begin() + static_cast<std::ptrdiff_t>(first), order.end());
+  }
+  return order;
 }
 
 CircularObstacle& Simulation::add_obstacle(const ObstacleConfig& o) {
@@ -179,9 +209,23 @@ void Simulation::run_until(double t) {
   if (t < s_.now())
     throw Error(fmt::format("ed: run_until({}) is before the current time {}", t, s_.now()));
   loop_->run_until(t);
+  keep_cell_order();
 }
 
-std::uint64_t Simulation::advance(std::uint64_t events) { return loop_->advance(events); }
+std::uint64_t Simulation::advance(std::uint64_t events) {
+  const std::uint64_t done = loop_->advance(events);
+  keep_cell_order();
+  return done;
+}
+
+void Simulation::keep_cell_order() {
+  // Newcomers of an open stream take the slots of disks that left at the far end; the
+  // scrambled memory order costs the neighbourhood scans ~15 % at N = 1.6 × 10^5.
+  const std::uint64_t fresh = s_.stats.inserted - inserted_at_reorder_;
+  if (cfg_.reorder_after <= 0.0 || fresh == 0 || double(fresh) < cfg_.reorder_after * s_.count()) return;
+  reorder_disks(cell_order());
+  inserted_at_reorder_ = s_.stats.inserted;
+}
 
 void Simulation::synchronise() {
   for (int i = 0; i < s_.size(); ++i)
