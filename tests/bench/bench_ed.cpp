@@ -2,6 +2,10 @@
 // core for the equilibrium periodic box at η = 0.65, kT = 0.02, for each calendar, after
 // an equilibration period; reports the median of the timed windows and memory per disk.
 // Usage: bench_ed [N ...] [--repeats R] [--per-disk C] [--calendar cell_heap|bucket] [--cell S]
+//                 [--order lattice|shuffled|cells]
+// --order: the disks' memory order for the timed windows — as the melted lattice left
+// it (default), shuffled at random (what an open stream's refilled slots tend to), or
+// renumbered in cell order (Simulation::reorder_disks(cell_order())).
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -9,6 +13,7 @@
 #include <cstdlib>
 #include <ctime>
 #include <numbers>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -22,6 +27,7 @@ int main(int argc, char** argv) try {
   int repeats = 3;
   double per_disk = 20.0;  // timed collisions per disk in each window
   double cell = ed::Config{}.min_cell_size;  // minimum cell edge in σ (--cell 1.2: the seed's §2.2 optimum)
+  std::string order = "lattice";
   std::vector<ed::CalendarKind> cals = {ed::CalendarKind::cell_heap, ed::CalendarKind::bucket};
   for (int a = 1; a < argc; ++a) {
     const std::string s = argv[a];
@@ -29,6 +35,13 @@ int main(int argc, char** argv) try {
     else if (s == "--per-disk" && a + 1 < argc) per_disk = std::atof(argv[++a]);
     else if (s == "--calendar" && a + 1 < argc) cals = {ed::calendar_from_name(argv[++a])};
     else if (s == "--cell" && a + 1 < argc) cell = std::atof(argv[++a]);
+    else if (s == "--order" && a + 1 < argc) {
+      order = argv[++a];
+      if (order != "lattice" && order != "shuffled" && order != "cells") {
+        std::fprintf(stderr, "bench_ed: --order %s: allowed lattice, shuffled, cells\n", order.c_str());
+        return 2;
+      }
+    }
     else sizes.push_back(static_cast<int>(std::atof(s.c_str())));
   }
   if (sizes.empty()) sizes = {10000, 160000, 1000000};
@@ -50,6 +63,15 @@ int main(int argc, char** argv) try {
       ed::Simulation sim(c);
       // Equilibration: melt the lattice (≈ 10 collisions per disk).
       while (sim.stats().collisions < 10ull * n) sim.advance(100000);
+      if (order == "shuffled") {
+        std::vector<int> ids;
+        for (int i = 0; i < sim.size(); ++i)
+          if (sim.present(i)) ids.push_back(i);
+        std::shuffle(ids.begin(), ids.end(), std::mt19937(7));
+        sim.reorder_disks(ids);
+      } else if (order == "cells") {
+        sim.reorder_disks(sim.cell_order());
+      }
       const double setup = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
       std::vector<double> rates, crates, erates, stale;
       for (int r = 0; r < repeats; ++r) {
