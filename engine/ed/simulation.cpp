@@ -78,8 +78,6 @@ void Simulation::build(std::vector<DiskInit> disks) {
     dmax = std::max(dmax, 2.0 * d.radius);
     dmin = std::min(dmin, 2.0 * d.radius);
   }
-  if (!(cfg_.reorder_after >= 0.0))
-    throw Error(fmt::format("ed: reorder_after = {} is invalid; it must be ≥ 0 (0: never)", cfg_.reorder_after));
   if (cfg_.min_cell_size < dmax)
     throw Error(fmt::format("ed: min_cell_size = {} is smaller than the largest diameter {}; cells "
                             "must be at least one diameter (seed 003 §2.2)", cfg_.min_cell_size, dmax));
@@ -209,23 +207,9 @@ void Simulation::run_until(double t) {
   if (t < s_.now())
     throw Error(fmt::format("ed: run_until({}) is before the current time {}", t, s_.now()));
   loop_->run_until(t);
-  keep_cell_order();
 }
 
-std::uint64_t Simulation::advance(std::uint64_t events) {
-  const std::uint64_t done = loop_->advance(events);
-  keep_cell_order();
-  return done;
-}
-
-void Simulation::keep_cell_order() {
-  // Newcomers of an open stream take the slots of disks that left at the far end; the
-  // scrambled memory order costs the neighbourhood scans ~15 % at N = 1.6 × 10^5.
-  const std::uint64_t fresh = s_.stats.inserted - inserted_at_reorder_;
-  if (cfg_.reorder_after <= 0.0 || fresh == 0 || double(fresh) < cfg_.reorder_after * s_.count()) return;
-  reorder_disks(cell_order());
-  inserted_at_reorder_ = s_.stats.inserted;
-}
+std::uint64_t Simulation::advance(std::uint64_t events) { return loop_->advance(events); }
 
 void Simulation::synchronise() {
   for (int i = 0; i < s_.size(); ++i)
