@@ -58,10 +58,9 @@ public:
     gl.GetIntegerv(GL_SCISSOR_BOX, old_box_);
     GLint vp[4] = {0, 0, width, height};
     gl.GetIntegerv(GL_VIEWPORT, vp);
-    const Mat4 m = view.view_proj();
-    auto pixel = [&](double x, double y) {
-      const Eigen::Vector4f c = m * Eigen::Vector4f(float(x), float(y), 0.f, 1.f);
-      return Eigen::Vector2d(vp[0] + (c.x() / c.w() + 1) * 0.5 * vp[2], vp[1] + (c.y() / c.w() + 1) * 0.5 * vp[3]);
+    auto pixel = [&](double x, double y) {  // GL window pixels, origin bottom-left
+      const Eigen::Vector2d c = view.ndc(x, y);
+      return Eigen::Vector2d(vp[0] + (c.x() + 1) * 0.5 * vp[2], vp[1] + (c.y() + 1) * 0.5 * vp[3]);
     };
     const Eigen::Vector2d a = pixel(s.lo.x(), s.lo.y()), b = pixel(s.hi.x(), s.hi.y());
     int x0 = vp[0], x1 = vp[0] + vp[2], y0 = vp[1], y1 = vp[1] + vp[3];

@@ -33,10 +33,9 @@ namespace {
 // Frame-pixel bounding box of the world rectangle [lo, hi] seen through `view` in `plot`.
 PixelRect projected_rect(const ViewTransform& view, const PixelRect& plot, const Eigen::Vector2d& lo,
                          const Eigen::Vector2d& hi) {
-  const Mat4 vp = view.view_proj();
   auto px = [&](double x, double y) {
-    const Eigen::Vector4f c = vp * Eigen::Vector4f(float(x), float(y), 0.f, 1.f);
-    return Eigen::Vector2d(plot.x + (c.x() / c.w() + 1) * 0.5 * plot.w, plot.y + (1 - c.y() / c.w()) * 0.5 * plot.h);
+    const Eigen::Vector2d c = view.ndc(x, y);
+    return Eigen::Vector2d(plot.x + (c.x() + 1) * 0.5 * plot.w, plot.y + (1 - c.y()) * 0.5 * plot.h);
   };
   const Eigen::Vector2d a = px(lo.x(), lo.y()), b = px(hi.x(), hi.y());
   const int x0 = int(std::lround(std::min(a.x(), b.x()))), x1 = int(std::lround(std::max(a.x(), b.x())));

@@ -104,19 +104,15 @@ std::size_t balanced_split(const std::vector<double>& cost, std::size_t nchunks,
   return best;
 }
 
-std::size_t thread_index() {
+// This thread's place in the enclosing parallel region and the region's size.
+struct TeamSlot {
+  std::size_t index = 0, size = 1;
+};
+TeamSlot team_slot() {
 #ifdef _OPENMP
-  return static_cast<std::size_t>(omp_get_thread_num());
+  return {static_cast<std::size_t>(omp_get_thread_num()), static_cast<std::size_t>(omp_get_num_threads())};
 #else
-  return 0;
-#endif
-}
-
-std::size_t team_size() {
-#ifdef _OPENMP
-  return static_cast<std::size_t>(omp_get_num_threads());
-#else
-  return 1;
+  return {};
 #endif
 }
 
@@ -365,7 +361,7 @@ void Simulation::begin_force_pass(bool update, bool then_integrate) {
 void Simulation::force_pass_share(std::size_t t, std::size_t T) {
   const std::size_t n = p_.n;
   const std::size_t kChunk = force_chunk_size(n);  // fixed work unit: independent of thread count
-  const std::size_t nchunks = (n + kChunk - 1) / kChunk;
+  const std::size_t nchunks = force_chunks();
   const double kick = pass_.kick, dt = dt_;
   const bool then_integrate = pass_.integrate;
   const std::uint32_t pass = pass_.number;
@@ -505,7 +501,10 @@ void Simulation::end_force_pass() {
 void Simulation::compute_forces(bool update, bool then_integrate) {
   begin_force_pass(update, then_integrate);
 #pragma omp parallel if (force_chunks() > 1)
-  force_pass_share(thread_index(), team_size());
+  {
+    const TeamSlot team = team_slot();
+    force_pass_share(team.index, team.size);
+  }
   end_force_pass();
 }
 
@@ -520,7 +519,7 @@ void Simulation::finish_integrate() {
 void Simulation::integrate() {
   const std::size_t n = p_.n;
   const std::size_t kChunk = force_chunk_size(n);
-  const std::size_t nchunks = (n + kChunk - 1) / kChunk;
+  const std::size_t nchunks = force_chunks();
   chunk_disp_.assign(nchunks, 0.0);
   // Leap-frog, Eq. 2.19: v_{n+1/2} = v_{n−1/2} + F_n/m Δt; r_{n+1} = r_n + v_{n+1/2} Δt.
   // The velocities given at t = 0 are full-step values: the first kick is a half kick.
@@ -556,7 +555,8 @@ void Simulation::step(std::uint64_t n) {
     bool more = true;
 #pragma omp parallel if (force_chunks() > 1)
     {
-      const std::size_t T = team_size(), t = thread_index();
+      const TeamSlot team = team_slot();
+      const std::size_t T = team.size, t = team.index;
       while (more) {
         force_pass_share(t, T);
         sync_->barrier(T);

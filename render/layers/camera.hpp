@@ -12,6 +12,11 @@ struct ViewTransform {
   Mat4 proj = Mat4::Identity();
   Mat4 view_proj() const { return proj * view; }
   float pixels_per_unit = 1.0f;  // for 2D and orthographic views: world length → pixels
+  // Normalised device coordinates ([−1, 1]², y up) of the world point (x, y, 0).
+  Eigen::Vector2d ndc(double x, double y) const {
+    const Eigen::Vector4f c = view_proj() * Eigen::Vector4f(float(x), float(y), 0.f, 1.f);
+    return {c.x() / c.w(), c.y() / c.w()};
+  }
 };
 
 // Maps [lo, hi] (world x, y) into a viewport of width × height pixels, centred, with
