@@ -5,7 +5,7 @@
 #include <fstream>
 #include <type_traits>
 
-#include "engine/core/atomic_file.hpp"
+#include "engine/io/atomic_file.hpp"
 #include "engine/core/error.hpp"
 #include "engine/dem/simulation.hpp"
 
@@ -61,7 +61,7 @@ void read_vec3(Reader& r, Vec3& v) {
 }  // namespace
 
 void Simulation::save_checkpoint(const std::filesystem::path& file) const {
-  core::AtomicFile af(file);
+  io::AtomicFile af(file);
   {
     std::ofstream os(af.path(), std::ios::binary | std::ios::trunc);
     Writer w{os};

@@ -14,7 +14,7 @@ extern "C" {
 #include <optional>
 #include <utility>
 
-#include "engine/core/atomic_file.hpp"
+#include "engine/io/atomic_file.hpp"
 #include "engine/core/error.hpp"
 
 namespace grainflow::render {
@@ -54,7 +54,7 @@ struct Mp4Writer::Impl {
   int width = 0, height = 0;          // frame size given by the caller
   int enc_width = 0, enc_height = 0;  // padded to even
   Mp4Options options;
-  std::optional<core::AtomicFile> file;
+  std::optional<io::AtomicFile> file;
 
   AVFormatContext* format = nullptr;
   AVCodecContext* codec = nullptr;

@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "engine/core/atomic_file.hpp"
+#include "engine/io/atomic_file.hpp"
 #include "engine/core/error.hpp"
 
 namespace grainflow::render {
@@ -121,7 +121,7 @@ void write_png(const std::filesystem::path& path, const Image& image, const PngO
     throw Error(where + ": compression level " + std::to_string(options.compression_level) +
                 " is out of range (allowed 0..9)");
 
-  core::AtomicFile out(path);
+  io::AtomicFile out(path);
   PngErrorSink errors;
   {
     FileCloser file{std::fopen(out.path().c_str(), "wb")};

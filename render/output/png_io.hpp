@@ -1,5 +1,5 @@
 // PNG files in and out (libpng): frames of a run, golden images, `grainflow diff` inputs.
-// Writing is atomic (core::AtomicFile) and tuned for speed; reading accepts any PNG and
+// Writing is atomic (io::AtomicFile) and tuned for speed; reading accepts any PNG and
 // converts it to the renderer's RGBA8 Image (SPEC.md §3, "Outputs").
 #pragma once
 #include <filesystem>

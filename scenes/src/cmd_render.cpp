@@ -14,7 +14,7 @@
 
 #include "engine/core/binning.hpp"
 #include "engine/core/error.hpp"
-#include "engine/core/particle_reader.hpp"
+#include "engine/io/particle_reader.hpp"
 #include "render/context/gl_context.hpp"
 #include "render/frame_renderer.hpp"
 #include "render/output/fan_out_sink.hpp"
@@ -98,7 +98,7 @@ int run_render(const RenderArgs& a) {
     throw Error("--layout needs --panels (e.g. --panels particles,density,temperature,streamlines)");
   }
 
-  auto reader = core::open_particle_file(a.input);
+  auto reader = io::open_particle_file(a.input);
   core::ParticleFrame frame;
   if (!reader->next(frame)) throw Error("'" + a.input + "' holds no frame");
 

@@ -14,7 +14,7 @@
 #include <vector>
 
 #include "engine/core/error.hpp"
-#include "engine/core/xyz_writer.hpp"
+#include "engine/io/xyz_writer.hpp"
 #include "engine/dem/simulation.hpp"
 #include "render/context/gl_context.hpp"
 #include "render/frame_renderer.hpp"
@@ -127,7 +127,7 @@ int run_scene(const RunArgs& a) {
     sinks.push_back(std::make_unique<render::Mp4Sink>(folder.file(name + ".mp4"), opt));
   }
   const auto output = render::parallel_sinks(std::move(sinks));
-  std::optional<core::XyzWriter> particles;
+  std::optional<io::XyzWriter> particles;
   if (scene.get<bool>("output.particles")) particles.emplace(folder.file("particles.xyz").string());
   StatsCsv stats(folder.file("stats.csv"), runner->stats_columns());
   runner->open_outputs(folder.dir());

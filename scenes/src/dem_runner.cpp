@@ -9,9 +9,9 @@
 #include <span>
 #include <string>
 
-#include "engine/core/atomic_file.hpp"
+#include "engine/io/atomic_file.hpp"
 #include "engine/core/error.hpp"
-#include "engine/core/particle_reader.hpp"
+#include "engine/io/particle_reader.hpp"
 #include "engine/core/state_digest.hpp"
 #include "engine/dem/field_sampler.hpp"
 #include "engine/dem/simulation.hpp"
@@ -30,7 +30,7 @@ std::vector<dem::ParticleInit> particles_from_file(const Scene& sc, const std::v
   const std::string name = sc.get<std::string>("system.initial.file");
   std::filesystem::path path(name);
   if (path.is_relative() && !sc.source().empty()) path = sc.source().parent_path() / path;
-  auto reader = core::open_particle_file(path.string());
+  auto reader = io::open_particle_file(path.string());
   core::ParticleFrame f;
   if (!reader->next(f))
     throw Error("system.initial.file = \"" + name + "\": " + path.string() + " holds no particle frame");
@@ -238,7 +238,7 @@ public:
   }
 
 private:
-  core::AtomicFile file_;
+  io::AtomicFile file_;
   std::FILE* out_ = nullptr;
   std::optional<dem::VdwCohesion::Params> vdw_;
 };

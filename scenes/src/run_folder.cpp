@@ -2,7 +2,7 @@
 
 #include <system_error>
 
-#include "engine/core/atomic_file.hpp"
+#include "engine/io/atomic_file.hpp"
 #include "engine/core/error.hpp"
 
 namespace grainflow::scenes {
@@ -75,7 +75,7 @@ RunFolder RunFolder::open(const fs::path& dir, RunFolderMode mode) {
   if (ec) throw Error("cannot create run folder '" + (dir / "frames").string() + "': " + ec.message());
   // An existing folder may still be read-only; find out now, not after hours of simulation.
   try {
-    core::AtomicFile probe(dir / ".grainflow-write-test");
+    io::AtomicFile probe(dir / ".grainflow-write-test");
     probe.abort();
   } catch (const Error& e) {
     throw Error("run folder '" + dir.string() + "' is not writable (" + e.what() + ")");

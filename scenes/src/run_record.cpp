@@ -3,7 +3,7 @@
 #include <ctime>
 #include <fstream>
 
-#include "engine/core/atomic_file.hpp"
+#include "engine/io/atomic_file.hpp"
 #include "engine/core/error.hpp"
 #include "scenes/src/json_writer.hpp"
 #include "scenes/src/scene.hpp"
@@ -89,7 +89,7 @@ std::string run_record_json(const RunRecord& r) {
 }
 
 void write_run_record(const RunRecord& r, const std::filesystem::path& path) {
-  core::AtomicFile file(path);
+  io::AtomicFile file(path);
   {
     std::ofstream out(file.path(), std::ios::binary | std::ios::trunc);
     out << run_record_json(r);

@@ -9,7 +9,7 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "engine/core/atomic_file.hpp"
+#include "engine/io/atomic_file.hpp"
 #include "engine/core/error.hpp"
 #include "scenes/src/scene_impl.hpp"
 #include "scenes/src/scene_overrides.hpp"
@@ -196,7 +196,7 @@ Scene parse_scene(std::string_view toml_text, std::string_view source_name, cons
 }
 
 void write_effective_scene(const Scene& scene, const std::filesystem::path& path) {
-  core::AtomicFile file(path);
+  io::AtomicFile file(path);
   {
     std::ofstream out(file.path(), std::ios::binary | std::ios::trunc);
     out << scene.to_toml();

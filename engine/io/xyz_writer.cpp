@@ -1,4 +1,4 @@
-#include "engine/core/xyz_writer.hpp"
+#include "engine/io/xyz_writer.hpp"
 
 #include <fmt/format.h>
 
@@ -10,7 +10,7 @@
 
 #include "engine/core/error.hpp"
 
-namespace grainflow::core {
+namespace grainflow::io {
 namespace {
 
 std::string clean_name(std::string_view name) {
@@ -102,4 +102,4 @@ void XyzWriter::close() {
   file_.commit();
 }
 
-}  // namespace grainflow::core
+}  // namespace grainflow::io

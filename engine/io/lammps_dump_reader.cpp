@@ -1,4 +1,4 @@
-#include "engine/core/lammps_dump_reader.hpp"
+#include "engine/io/lammps_dump_reader.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -6,7 +6,7 @@
 
 #include "engine/core/error.hpp"
 
-namespace grainflow::core {
+namespace grainflow::io {
 namespace {
 
 constexpr std::string_view kItem = "ITEM:";
@@ -253,4 +253,4 @@ bool LammpsDumpReader::next(ParticleFrame& f) {
   return true;
 }
 
-}  // namespace grainflow::core
+}  // namespace grainflow::io

@@ -6,10 +6,12 @@
 #include <ostream>
 #include <string>
 
-#include "engine/core/atomic_file.hpp"
+#include "engine/io/atomic_file.hpp"
 #include "engine/core/particle_frame.hpp"
 
-namespace grainflow::core {
+namespace grainflow::io {
+
+using core::ParticleFrame;  // the in-memory frame the binning grid also consumes
 
 // One frame in extended-XYZ text. Numbers are written in the shortest form that reads
 // back to the same double, so XyzReader round-trips a frame exactly. Species are
@@ -40,4 +42,4 @@ private:
   std::string buf_;
 };
 
-}  // namespace grainflow::core
+}  // namespace grainflow::io

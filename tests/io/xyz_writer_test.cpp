@@ -1,6 +1,6 @@
 // Extended-XYZ writer: frames written and read back by XyzReader are identical (shortest
 // round-trip number formatting), and the output is only visible under its name after close().
-#include "engine/core/xyz_writer.hpp"
+#include "engine/io/xyz_writer.hpp"
 
 #include <gtest/gtest.h>
 
@@ -9,12 +9,13 @@
 #include <sstream>
 
 #include "engine/core/error.hpp"
-#include "engine/core/lammps_dump_reader.hpp"
+#include "engine/io/lammps_dump_reader.hpp"
 #include "engine/core/rng.hpp"
-#include "engine/core/xyz_reader.hpp"
+#include "engine/io/xyz_reader.hpp"
 
 using namespace grainflow;
 using namespace grainflow::core;
+using namespace grainflow::io;
 
 namespace {
 

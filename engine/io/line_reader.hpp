@@ -8,7 +8,7 @@
 #include <string_view>
 #include <vector>
 
-namespace grainflow::core {
+namespace grainflow::io {
 
 class LineReader {
 public:
@@ -42,4 +42,4 @@ bool parse_int64(std::string_view token, std::int64_t& out);
 // A token shortened to at most 40 characters, quoted, for error messages.
 std::string quote_token(std::string_view token);
 
-}  // namespace grainflow::core
+}  // namespace grainflow::io

@@ -1,4 +1,4 @@
-#include "engine/core/atomic_file.hpp"
+#include "engine/io/atomic_file.hpp"
 
 #include <gtest/gtest.h>
 
@@ -7,9 +7,9 @@
 #include <string>
 
 #include "engine/core/error.hpp"
-#include "output_test_support.hpp"
+#include "tests/render/output_test_support.hpp"
 
-namespace grainflow::core {
+namespace grainflow::io {
 namespace {
 
 namespace fs = std::filesystem;
@@ -105,4 +105,4 @@ TEST(AtomicFile, DoubleCommitIsAnError) {
 }
 
 }  // namespace
-}  // namespace grainflow::core
+}  // namespace grainflow::io

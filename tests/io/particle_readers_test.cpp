@@ -9,12 +9,13 @@
 #include <vector>
 
 #include "engine/core/error.hpp"
-#include "engine/core/lammps_dump_reader.hpp"
-#include "engine/core/particle_reader.hpp"
-#include "engine/core/xyz_reader.hpp"
+#include "engine/io/lammps_dump_reader.hpp"
+#include "engine/io/particle_reader.hpp"
+#include "engine/io/xyz_reader.hpp"
 
 using namespace grainflow;
 using namespace grainflow::core;
+using namespace grainflow::io;
 
 namespace {
 

@@ -1,4 +1,4 @@
-#include "engine/core/xyz_reader.hpp"
+#include "engine/io/xyz_reader.hpp"
 
 #include <algorithm>
 #include <cctype>
@@ -7,7 +7,7 @@
 
 #include "engine/core/error.hpp"
 
-namespace grainflow::core {
+namespace grainflow::io {
 namespace {
 
 std::string lower(std::string_view s) {
@@ -348,4 +348,4 @@ bool XyzReader::next(ParticleFrame& f) {
   return true;
 }
 
-}  // namespace grainflow::core
+}  // namespace grainflow::io

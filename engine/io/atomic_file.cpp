@@ -1,4 +1,4 @@
-#include "engine/core/atomic_file.hpp"
+#include "engine/io/atomic_file.hpp"
 
 #include <fcntl.h>
 #include <unistd.h>
@@ -12,7 +12,7 @@
 
 #include "engine/core/error.hpp"
 
-namespace grainflow::core {
+namespace grainflow::io {
 
 namespace {
 
@@ -77,4 +77,4 @@ void AtomicFile::abort() noexcept {
   active_ = false;
 }
 
-}  // namespace grainflow::core
+}  // namespace grainflow::io

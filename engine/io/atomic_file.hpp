@@ -4,7 +4,7 @@
 #pragma once
 #include <filesystem>
 
-namespace grainflow::core {
+namespace grainflow::io {
 
 // Owns a temporary path `<final>.tmp-<pid>-<n>` beside the final path. Write to path(),
 // then commit() renames it over the final path (rename(2) is atomic within a directory).
@@ -38,4 +38,4 @@ private:
   bool active_ = false;
 };
 
-}  // namespace grainflow::core
+}  // namespace grainflow::io

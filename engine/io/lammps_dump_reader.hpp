@@ -12,10 +12,10 @@
 #include <string>
 #include <vector>
 
-#include "engine/core/line_reader.hpp"
-#include "engine/core/particle_reader.hpp"
+#include "engine/io/line_reader.hpp"
+#include "engine/io/particle_reader.hpp"
 
-namespace grainflow::core {
+namespace grainflow::io {
 
 class LammpsDumpReader final : public ParticleReader {
 public:
@@ -32,4 +32,4 @@ private:
   std::vector<std::string> element_names_;
 };
 
-}  // namespace grainflow::core
+}  // namespace grainflow::io

@@ -1,4 +1,4 @@
-#include "engine/core/line_reader.hpp"
+#include "engine/io/line_reader.hpp"
 
 #include <cerrno>
 #include <charconv>
@@ -6,7 +6,7 @@
 
 #include "engine/core/error.hpp"
 
-namespace grainflow::core {
+namespace grainflow::io {
 
 LineReader::LineReader(std::string path) : path_(std::move(path)), in_(path_, std::ios::binary) {
   if (!in_) throw Error(path_ + ": cannot open for reading (" + std::strerror(errno) + ")");
@@ -70,4 +70,4 @@ std::string quote_token(std::string_view token) {
   return s;
 }
 
-}  // namespace grainflow::core
+}  // namespace grainflow::io

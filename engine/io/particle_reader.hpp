@@ -8,7 +8,9 @@
 
 #include "engine/core/particle_frame.hpp"
 
-namespace grainflow::core {
+namespace grainflow::io {
+
+using core::ParticleFrame;  // the in-memory frame the binning grid also consumes
 
 class ParticleReader {
 public:
@@ -25,4 +27,4 @@ public:
 // (extended) XYZ. Anything else (including gzip data) throws grainflow::Error.
 std::unique_ptr<ParticleReader> open_particle_file(const std::string& path);
 
-}  // namespace grainflow::core
+}  // namespace grainflow::io

@@ -1,11 +1,11 @@
-#include "engine/core/particle_reader.hpp"
+#include "engine/io/particle_reader.hpp"
 
 #include "engine/core/error.hpp"
-#include "engine/core/lammps_dump_reader.hpp"
-#include "engine/core/line_reader.hpp"
-#include "engine/core/xyz_reader.hpp"
+#include "engine/io/lammps_dump_reader.hpp"
+#include "engine/io/line_reader.hpp"
+#include "engine/io/xyz_reader.hpp"
 
-namespace grainflow::core {
+namespace grainflow::io {
 
 std::unique_ptr<ParticleReader> open_particle_file(const std::string& path) {
   std::string first;
@@ -34,4 +34,4 @@ std::unique_ptr<ParticleReader> open_particle_file(const std::string& path) {
               "got " + quote_token(first));
 }
 
-}  // namespace grainflow::core
+}  // namespace grainflow::io

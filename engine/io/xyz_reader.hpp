@@ -17,10 +17,10 @@
 #include <string>
 #include <vector>
 
-#include "engine/core/line_reader.hpp"
-#include "engine/core/particle_reader.hpp"
+#include "engine/io/line_reader.hpp"
+#include "engine/io/particle_reader.hpp"
 
-namespace grainflow::core {
+namespace grainflow::io {
 
 class XyzReader final : public ParticleReader {
 public:
@@ -40,4 +40,4 @@ private:
   std::vector<std::string_view> tokens_;
 };
 
-}  // namespace grainflow::core
+}  // namespace grainflow::io
