@@ -8,7 +8,7 @@
 #include <cstdio>
 #include <string>
 
-#include "scenes/src/progress.hpp"
+#include "scenes/src/run/progress.hpp"
 
 using namespace grainflow::scenes;
 

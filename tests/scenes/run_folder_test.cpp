@@ -7,10 +7,10 @@
 #include <stdexcept>
 
 #include "engine/core/error.hpp"
-#include "scenes/src/json_writer.hpp"
-#include "scenes/src/run_folder.hpp"
-#include "scenes/src/run_record.hpp"
-#include "scenes/src/scene.hpp"
+#include "scenes/src/outputs/json_writer.hpp"
+#include "scenes/src/run/run_folder.hpp"
+#include "scenes/src/outputs/run_record.hpp"
+#include "scenes/src/scene/scene.hpp"
 
 using namespace grainflow::scenes;
 namespace fs = std::filesystem;

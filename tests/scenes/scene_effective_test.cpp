@@ -7,8 +7,8 @@
 #include <sstream>
 #include <string>
 
-#include "scenes/src/scene.hpp"
-#include "scenes/src/scene_schema.hpp"
+#include "scenes/src/scene/scene.hpp"
+#include "scenes/src/scene/schema.hpp"
 
 using namespace grainflow::scenes;
 namespace fs = std::filesystem;

@@ -7,10 +7,10 @@
 #include <string>
 #include <vector>
 
-#include "scenes/src/scene.hpp"
-#include "scenes/src/engines.hpp"
-#include "scenes/src/scene_schema.hpp"
-#include "scenes/src/scene_suggest.hpp"
+#include "scenes/src/scene/scene.hpp"
+#include "scenes/src/engines/engine_table.hpp"
+#include "scenes/src/scene/schema.hpp"
+#include "scenes/src/scene/suggest.hpp"
 
 using namespace grainflow::scenes;
 

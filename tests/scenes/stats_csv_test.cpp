@@ -10,9 +10,9 @@
 #include <stdexcept>
 
 #include "engine/core/error.hpp"
-#include "scenes/src/interrupt.hpp"
-#include "scenes/src/run_record.hpp"
-#include "scenes/src/stats_csv.hpp"
+#include "scenes/src/run/interrupt.hpp"
+#include "scenes/src/outputs/run_record.hpp"
+#include "scenes/src/outputs/stats_csv.hpp"
 
 using namespace grainflow::scenes;
 namespace fs = std::filesystem;

@@ -1,0 +1,385 @@
+// `grainflow run` adapter of the 3D DEM engine (engine/dem): scene keys → dem::Config
+// (SI units), frames of spheres, stats rows of energies, contacts and wall forces, and
+// optionally pair.csv: the force–separation record of particles 1 and 2 (seed 000 §5.4).
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <optional>
+#include <span>
+#include <string>
+
+#include "engine/io/atomic_file.hpp"
+#include "engine/core/error.hpp"
+#include "engine/io/particle_reader.hpp"
+#include "engine/core/state_digest.hpp"
+#include "engine/dem/field_sampler.hpp"
+#include "engine/dem/simulation.hpp"
+#include "engine/dem/vdw_cohesion.hpp"
+#include "scenes/src/engines/engine_runner.hpp"
+#include "scenes/src/engines/field_snapshot.hpp"
+#include "scenes/src/scene/scene.hpp"
+
+namespace grainflow::scenes {
+namespace {
+
+// system.initial.kind = "file" (seed 000 §2.1, "read from a list"): the first frame of
+// system.initial.file gives positions, radii (0 → the group's radius) and velocities;
+// particle type t belongs to group t − 1, and each group's N must equal its type's count.
+std::vector<dem::ParticleInit> particles_from_file(const Scene& sc, const std::vector<std::size_t>& counts) {
+  const std::string name = sc.get<std::string>("system.initial.file");
+  std::filesystem::path path(name);
+  if (path.is_relative() && !sc.source().empty()) path = sc.source().parent_path() / path;
+  auto reader = io::open_particle_file(path.string());
+  core::ParticleFrame f;
+  if (!reader->next(f))
+    throw Error("system.initial.file = \"" + name + "\": " + path.string() + " holds no particle frame");
+  std::size_t total = 0;
+  for (auto n : counts) total += n;
+  if (f.size() != total)
+    throw Error("system.initial.file = \"" + name + "\": the file has " + std::to_string(f.size()) +
+                " particles but the groups' N add up to " + std::to_string(total) +
+                "; make the system.group N counts add up to the file's particle count");
+  // The readers report radius 0.5 for every particle when the file has no radius or
+  // diameter column; such a frame takes the groups' radii.
+  const bool has_radii = std::any_of(f.radius.begin(), f.radius.end(), [](double r) { return r != 0.5; });
+  std::vector<std::size_t> seen(counts.size(), 0);
+  std::vector<dem::ParticleInit> out(f.size());
+  for (std::size_t i = 0; i < f.size(); ++i) {
+    const int t = f.type[i];
+    if (t < 1 || std::size_t(t) > counts.size())
+      throw Error("system.initial.file = \"" + name + "\": particle " + std::to_string(i + 1) + " has type " +
+                  std::to_string(t) + ", but the scene has " + std::to_string(counts.size()) +
+                  " [[system.group]] table(s); allowed types: 1.." + std::to_string(counts.size()) +
+                  " (type t is group t − 1)");
+    dem::ParticleInit& p = out[i];
+    p.x = f.position[i];
+    p.group = t - 1;
+    p.radius = has_radii ? f.radius[i] : 0.0;
+    if (f.has_velocity()) p.v = f.velocity[i];
+    ++seen[std::size_t(t - 1)];
+  }
+  for (std::size_t g = 0; g < counts.size(); ++g)
+    if (seen[g] != counts[g])
+      throw Error("system.group[" + std::to_string(g) + "].N = " + std::to_string(counts[g]) + ", but " + name +
+                  " holds " + std::to_string(seen[g]) + " particles of type " + std::to_string(g + 1) +
+                  "; N must equal the file's count of its type");
+  return out;
+}
+
+dem::Config dem_config(const Scene& sc) {
+  dem::Config c;
+  const auto box = sc.get<std::array<double, 3>>("system.box");
+  c.box.lo = Vec3::Zero();
+  c.box.hi = {box[0], box[1], box[2]};
+  const auto periodic = sc.get<std::array<bool, 3>>("boundary.periodic");
+  c.box.periodic = {periodic[0], periodic[1], periodic[2]};
+  c.box.open_top = sc.get<std::string>("boundary.top") == "open";
+  // Plane Couette: the z walls slide in their own plane (the schema allows only vx, vy).
+  const auto top_v = sc.get<std::array<double, 2>>("boundary.top_velocity");
+  const auto bottom_v = sc.get<std::array<double, 2>>("boundary.bottom_velocity");
+  c.box.wall_velocity[5] = {top_v[0], top_v[1], 0.0};
+  c.box.wall_velocity[4] = {bottom_v[0], bottom_v[1], 0.0};
+  const auto g = sc.get<std::array<double, 3>>("system.gravity");
+  c.gravity = {g[0], g[1], g[2]};
+  if (auto dt = sc.find<double>("system.dt")) c.dt = *dt;
+  c.steps_per_collision = int(sc.get<std::int64_t>("system.steps_per_collision"));
+  c.neighbor = sc.get<std::string>("system.neighbor_search") == "all_pairs" ? dem::NeighborMethod::AllPairs
+                                                                            : dem::NeighborMethod::ChainCells;
+  if (const double skin = sc.get<double>("system.skin"); skin > 0) c.skin = skin;
+
+  const bool walton = sc.get<std::string>("system.contact.model") == "walton";
+  c.model.normal = walton ? dem::NormalKind::Walton : dem::NormalKind::Hooke;
+  c.model.tangential = walton ? dem::TangentialKind::Walton : dem::TangentialKind::History;
+  c.model.cohesion = sc.has("system.vdw") ? dem::CohesionKind::VanDerWaals : dem::CohesionKind::None;
+
+  c.groups.clear();
+  std::vector<std::size_t> counts;
+  for (std::size_t i = 0; i < sc.count("system.group"); ++i) {
+    const std::string key = "system.group[" + std::to_string(i) + "].";
+    dem::GroupConfig gc;
+    gc.radius = sc.get<double>(key + "radius");
+    gc.density = sc.get<double>(key + "density");
+    auto& p = gc.contact;
+    p.k1 = sc.get<double>("system.contact.kn");
+    p.kt = sc.get<double>("system.contact.kt");
+    const double e = sc.get<double>(key + "e");
+    p.e = e > 0 ? e : sc.get<double>("system.contact.e");
+    const double mu = sc.get<double>(key + "mu");
+    p.mu = mu >= 0 ? mu : sc.get<double>("system.contact.mu");
+    if (sc.has("system.vdw")) {
+      p.hamaker = sc.get<double>("system.vdw.A");
+      p.alpha_min = sc.get<double>("system.vdw.alpha_min");
+      p.alpha_cut = sc.get<double>("system.vdw.cutoff");
+      p.vdw_radius = sc.get<double>("system.vdw.asperity_radius");
+      p.r_ss = sc.get<double>("system.vdw.r_ss");
+    }
+    c.groups.push_back(gc);
+    counts.push_back(std::size_t(sc.get<std::int64_t>(key + "N")));
+  }
+
+  // Initial positions (seed 000 §2.1): group 0's particles first, then group 1's.
+  std::size_t total = 0;
+  for (auto n : counts) total += n;
+  double rmax = 0;
+  for (const auto& gc : c.groups) rmax = std::max(rmax, gc.radius);
+  const std::string kind = sc.get<std::string>("system.initial.kind");
+  std::vector<Vec3> sites;
+  if (kind == "lattice") {
+    // Simple cubic, spread through the whole box (spacing cbrt(V/N), at least 2.04 r_max)
+    // so a free-fall scene starts with the particles apart and falling, x fastest.
+    const double volume = box[0] * box[1] * box[2];
+    double a = std::max(2.04 * rmax, std::cbrt(volume / double(total)));
+    auto sites_at = [&](double spacing) {
+      return std::size_t(box[0] / spacing) * std::size_t(box[1] / spacing) * std::size_t(box[2] / spacing);
+    };
+    while (a > 2.04 * rmax && sites_at(a) < total) a = std::max(2.04 * rmax, a * 0.99);
+    const int nx = int(box[0] / a), ny = int(box[1] / a), nz = int(box[2] / a);
+    if (sites_at(a) < total)
+      throw Error("system.initial.kind = \"lattice\": " + std::to_string(total) + " particles do not fit a " +
+                  std::to_string(nx) + "×" + std::to_string(ny) + "×" + std::to_string(nz) +
+                  " lattice at spacing 2.04 r in the box; enlarge system.box or lower the counts");
+    sites = dem::simple_cubic_lattice(c.box.lo, a, nx, ny, nz);
+    sites.resize(total);
+  } else if (kind == "random") {
+    // Placed at half size, then grown to the final radii over grow_steps (FINDRAD, §2.1).
+    const auto grow = sc.get<std::int64_t>("system.initial.grow_steps");
+    c.growth_start = grow > 0 ? 0.5 : 1.0;
+    c.growth_steps = std::uint64_t(grow);
+    sites = dem::random_positions(c.box.lo, c.box.hi, rmax * c.growth_start, total,
+                                  std::uint64_t(sc.get<std::int64_t>("run.seed")));
+  } else {
+    c.particles = particles_from_file(sc, counts);
+    return c;
+  }
+  std::size_t k = 0;
+  for (std::size_t gi = 0; gi < counts.size(); ++gi)
+    for (std::size_t j = 0; j < counts[gi]; ++j, ++k) {
+      dem::ParticleInit p;
+      p.x = sites[k];
+      p.group = int(gi);
+      c.particles.push_back(p);
+    }
+  return c;
+}
+
+// Fields are averaged over each exposure from kSamplesPerExposure snapshots of the state,
+// on the plane sample.plane (averaged across the box normal to it).
+constexpr int kSamplesPerExposure = 20;
+
+core::BinningOptions binning_options(const Scene& sc, const dem::Config& cfg) {
+  core::BinningOptions opt;
+  const std::string plane = sc.get<std::string>("sample.plane");
+  opt.plane = plane == "xy" ? core::BinPlane::xy : plane == "yz" ? core::BinPlane::yz : core::BinPlane::xz;
+  const int u = plane == "yz" ? 1 : 0, v = plane == "xy" ? 1 : 2;
+  const auto bins = sc.get<std::array<int, 2>>("sample.bins");
+  opt.grid.nx = bins[0];
+  opt.grid.ny = bins[1];
+  opt.grid.lo = Vec2(cfg.box.lo[u], cfg.box.lo[v]);
+  opt.grid.hi = Vec2(cfg.box.hi[u], cfg.box.hi[v]);
+  return opt;
+}
+
+// pair.csv (output.pair_csv): particles 1 and 2 of the scene every output.pair_every
+// steps, the force–separation record of Fig. 5.6–5.16. α = |x₂ − x₁| − r₁ − r₂ (negative
+// = overlap, minimum image across periodic axes); forces along n = (x₂ − x₁)/|x₂ − x₁|,
+// positive = repulsive: normal_force = F₂·n (all forces on particle 2, i.e. the pair force
+// when nothing else touches it), vdw_force = the attraction of Eq. 5.29 at α (0 without
+// [system.vdw]), contact_force = normal_force + vdw_force (the spring alone, Fig. 5.11);
+// v_rel_n = (v₂ − v₁)·n (positive = separating). Written through AtomicFile.
+class PairProbe {
+public:
+  PairProbe(const std::filesystem::path& file, const Scene& sc) : file_(file) {
+    out_ = std::fopen(file_.path().c_str(), "w");
+    if (!out_) throw Error("cannot write " + file_.path().string());
+    std::fputs("step,time,separation,normal_force,vdw_force,contact_force,v_rel_n\n", out_);
+    if (sc.has("system.vdw")) {
+      vdw_.emplace();
+      vdw_->hamaker = sc.get<double>("system.vdw.A");
+      vdw_->asperity = sc.get<double>("system.vdw.asperity_radius");
+      vdw_->rss6 = std::pow(sc.get<double>("system.vdw.r_ss"), 6);
+      vdw_->alpha_min = sc.get<double>("system.vdw.alpha_min");
+      vdw_->alpha_cut = sc.get<double>("system.vdw.cutoff");
+    }
+  }
+  ~PairProbe() {
+    if (out_) std::fclose(out_);
+  }
+  PairProbe(const PairProbe&) = delete;
+  PairProbe& operator=(const PairProbe&) = delete;
+
+  void record(const dem::Simulation& sim) {
+    const auto& b = sim.config().box;
+    Vec3 d = sim.position(1) - sim.position(0);
+    for (int a = 0; a < 3; ++a)
+      if (b.periodic[std::size_t(a)]) {
+        const double L = b.hi[a] - b.lo[a];
+        d[a] -= L * std::round(d[a] / L);
+      }
+    const double dist = d.norm();
+    const Vec3 n = dist > 0 ? Vec3(d / dist) : Vec3(1, 0, 0);
+    const double r0 = sim.radius(0), r1 = sim.radius(1);
+    const double gap = dist - r0 - r1;
+    const double fn = sim.force(1).dot(n);
+    double fv = 0;
+    if (vdw_ && gap < vdw_->alpha_cut) {
+      const double reff = vdw_->asperity > 0 ? 0.5 * vdw_->asperity : r0 * r1 / (r0 + r1);
+      fv = dem::VdwCohesion::vdw_force(vdw_->hamaker, reff, vdw_->rss6, std::max(gap, vdw_->alpha_min));
+    }
+    const double vn = (sim.velocity(1) - sim.velocity(0)).dot(n);
+    std::fprintf(out_, "%llu,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g\n", static_cast<unsigned long long>(sim.steps()),
+                 sim.time(), gap, fn, fv, fn + fv, vn);
+  }
+  void finish() {
+    const bool ok = std::fclose(out_) == 0;
+    out_ = nullptr;
+    if (!ok) throw Error("cannot write " + file_.path().string());
+    file_.commit();
+  }
+
+private:
+  io::AtomicFile file_;
+  std::FILE* out_ = nullptr;
+  std::optional<dem::VdwCohesion::Params> vdw_;
+};
+
+class DemRunner final : public EngineRunner {
+public:
+  explicit DemRunner(const Scene& sc)
+      : sim_(dem_config(sc)),
+        fields_(binning_options(sc, sim_.config())),
+        sample_every_(sc.get<double>("sample.exposure") / kSamplesPerExposure),
+        next_sample_(sim_.time() + sample_every_),
+        scene_(sc),
+        pair_every_(std::uint64_t(sc.get<std::int64_t>("output.pair_every"))) {}
+
+  void open_outputs(const std::filesystem::path& dir) override {
+    if (!scene_.get<bool>("output.pair_csv")) return;
+    if (sim_.size() < 2)
+      throw Error("output.pair_csv = true needs at least 2 particles; the scene has " + std::to_string(sim_.size()));
+    pair_.emplace(dir / "pair.csv", scene_);
+    pair_->record(sim_);
+  }
+  void finish_outputs() override {
+    if (pair_) pair_->finish();
+  }
+
+  double time() const override { return sim_.time(); }
+  void advance_to(double t) override {
+    // Whole steps only: stop at the last step not past t (at least one step), sampling
+    // the fields on the way.
+    while (true) {
+      const double until = std::min(t, next_sample_);
+      const double steps = std::floor((until - sim_.time()) / sim_.dt() + 1e-9);
+      step(std::uint64_t(std::max(1.0, steps)));
+      if (sim_.time() >= next_sample_ - 0.5 * sim_.dt()) {
+        dem::sample_fields(sim_, fields_);
+        next_sample_ += sample_every_;
+      }
+      if (sim_.time() >= t - 0.5 * sim_.dt()) break;
+    }
+  }
+  void advance_steps(std::uint64_t n) override { step(n); }
+  std::uint64_t steps_done() const override { return sim_.steps(); }
+
+  void snapshot(const std::string& colour_by, render::Snapshot& s) override {
+    const auto& b = sim_.config().box;
+    s.dim = 3;
+    s.lo = b.lo;
+    s.hi = b.hi;
+    s.periodic = b.periodic;
+    s.time = sim_.time();
+    const std::size_t n = sim_.size();
+    s.pos_radius.resize(4 * n);
+    s.attribute.clear();
+    s.attribute_name = colour_by;
+    s.attribute_categorical = colour_by == "group";
+    const bool coloured = colour_by != "uniform";
+    if (coloured) s.attribute.resize(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      const Vec3 x = sim_.position(i);
+      float* p = &s.pos_radius[4 * i];
+      p[0] = float(x.x());
+      p[1] = float(x.y());
+      p[2] = float(x.z());
+      p[3] = float(sim_.radius(i));
+      if (!coloured) continue;
+      double v = 0;
+      if (colour_by == "speed") v = sim_.velocity(i).norm();
+      else if (colour_by == "vx") v = sim_.velocity(i).x();
+      else if (colour_by == "vy") v = sim_.velocity(i).y();
+      else if (colour_by == "vz") v = sim_.velocity(i).z();
+      else if (colour_by == "spin") v = sim_.angular_velocity(i).norm();
+      else if (colour_by == "group") v = sim_.group(i);
+      else if (colour_by == "height") v = x.z();
+      else throw Error("render.color_by = \"" + colour_by + "\" is not available for DEM spheres");
+      s.attribute[i] = float(v);
+    }
+    s.obstacles.clear();
+    if (fields_.frames() > 0) {
+      core::BinnedFields f;
+      f.density = fields_.density();
+      f.fraction = fields_.fraction();
+      f.mean_velocity = fields_.mean_velocity();
+      f.temperature = fields_.temperature();
+      f.mean_speed = fields_.mean_speed();
+      set_binned_fields(std::move(f), s);
+      fields_.reset();
+    }
+  }
+
+  std::vector<std::string> stats_columns() const override {
+    return {"step", "N", "kinetic_energy", "rotational_energy", "potential_energy", "contacts", "coordination",
+            "wall_force_bottom_z", "neighbour_builds"};
+  }
+  std::vector<double> stats_row() override {
+    const dem::Stats st = sim_.stats();
+    return {double(st.step),        double(sim_.size()), st.kinetic,           st.rotational,
+            st.potential_gravity,   double(st.contacts), st.coordination,      st.wall_force[4].z(),
+            double(st.neighbor_builds)};
+  }
+
+  double work() const override { return double(sim_.steps()) * double(sim_.size()); }
+  std::string work_unit() const override { return "particle-steps"; }
+  std::vector<std::pair<std::string, double>> figures() const override {
+    return {{"steps", double(sim_.steps())},
+            {"particles", double(sim_.size())},
+            {"dt", sim_.dt()},
+            {"threads", double(dem::thread_count())}};
+  }
+  std::string state_digest() const override {
+    // Positions, velocities and spins in particle order, through the public accessors so
+    // the digest does not depend on the engine's internal layout.
+    core::StateDigest d;
+    d.add(sim_.time());
+    for (std::size_t i = 0; i < sim_.size(); ++i)
+      for (const Vec3& q : {sim_.position(i), sim_.velocity(i), sim_.angular_velocity(i)})
+        d.add(std::span<const double>(q.data(), 3));
+    return d.hex();
+  }
+
+private:
+  // Steps the engine, stopping every pair_every steps for the pair record when asked.
+  void step(std::uint64_t n) {
+    if (!pair_) return sim_.step(n);
+    while (n > 0) {
+      const std::uint64_t k = std::min(n, pair_every_ - sim_.steps() % pair_every_);
+      sim_.step(k);
+      n -= k;
+      if (sim_.steps() % pair_every_ == 0) pair_->record(sim_);
+    }
+  }
+
+  dem::Simulation sim_;
+  core::BinAccumulator fields_;
+  double sample_every_, next_sample_;
+  Scene scene_;
+  std::uint64_t pair_every_;
+  std::optional<PairProbe> pair_;
+};
+
+}  // namespace
+
+std::unique_ptr<EngineRunner> make_dem_runner(const Scene& scene) { return std::make_unique<DemRunner>(scene); }
+
+}  // namespace grainflow::scenes

@@ -1,0 +1,256 @@
+// `grainflow run` adapter of the 2D event-driven engine (engine/ed): scene keys → ed::Config,
+// frames of disks coloured by speed/velocity/spin, stats rows from the engine's
+// measurement window (seed 003 §4.1).
+#include <cmath>
+#include <numbers>
+#include <string>
+
+#include "engine/core/error.hpp"
+#include "engine/core/state_digest.hpp"
+#include "engine/ed/dense_stream.hpp"
+#include "engine/ed/field_sampler.hpp"
+#include "engine/ed/low_density_stream.hpp"
+#include "engine/ed/simulation.hpp"
+#include "scenes/src/engines/engine_runner.hpp"
+#include "scenes/src/engines/field_snapshot.hpp"
+#include "scenes/src/scene/scene.hpp"
+
+namespace grainflow::scenes {
+namespace {
+
+ed::Config ed_config(const Scene& sc) {
+  ed::Config c;
+  const auto box = sc.get<std::array<double, 2>>("system.box");
+  c.lx = box[0];
+  c.ly = box[1];
+  if (auto eta = sc.find<double>("system.area_fraction")) {
+    c.area_fraction = *eta;
+    c.n = 0;
+  } else if (auto n = sc.find<double>("system.n")) {
+    c.n = int(std::lround(*n * c.lx * c.ly));
+  } else {
+    c.n = int(sc.get<std::int64_t>("system.N"));
+  }
+  c.kT = sc.get<double>("system.kT");
+  c.stream = {sc.get<double>("system.U"), 0.0};
+  c.seed = std::uint64_t(sc.get<std::int64_t>("run.seed"));
+  const auto periodic = sc.get<std::array<bool, 2>>("boundary.periodic");
+  c.periodic_x = periodic[0];
+  c.periodic_y = periodic[1];
+  c.e = sc.get<double>("system.e");
+  c.mu = sc.get<double>("system.mu");
+  c.e_t = c.mu > 0 ? sc.get<double>("system.e_t") : 1.0;
+  c.min_cell_size = sc.get<double>("system.cell_size");
+  c.calendar = ed::calendar_from_name(sc.get<std::string>("system.calendar"));
+  // Keys the schema knows but this engine does not model yet stop the run rather than
+  // being silently ignored.
+  if (sc.get<double>("system.tau_tc") > 0)
+    throw Error("system.tau_tc = " + std::to_string(sc.get<double>("system.tau_tc")) +
+                ": the TC model is not implemented in the ED engine yet; allowed: 0");
+  // Open stream boundaries close the x axis themselves (seed 003 §3.2–3.3): no x walls.
+  c.open_x = sc.get<std::string>("boundary.stream.kind") != "periodic";
+  return c;
+}
+
+// The stream's area fraction as the scene gives it (one of area_fraction, n, N).
+double stream_area_fraction(const Scene& sc, const ed::Config& c) {
+  if (auto eta = sc.find<double>("system.area_fraction")) return *eta;
+  return double(c.n) * std::numbers::pi / 4.0 / (c.lx * c.ly);
+}
+
+// Fields are time-averaged over each exposure τ_E (seed 003 §4.1) by the engine's sampler
+// agent, sampling all disks kSamplesPerExposure times per exposure.
+constexpr int kSamplesPerExposure = 40;
+
+class EdRunner final : public EngineRunner {
+public:
+  explicit EdRunner(const Scene& sc) : sim_(ed_config(sc)) {
+    ed::SamplerConfig sc_cfg;
+    const auto bins = sc.get<std::array<int, 2>>("sample.bins");
+    sc_cfg.grid.nx = bins[0];
+    sc_cfg.grid.ny = bins[1];
+    sc_cfg.grid.lo = Vec2(0, 0);
+    sc_cfg.grid.hi = Vec2(sim_.config().lx, sim_.config().ly);
+    sc_cfg.exposure = sc.get<double>("sample.exposure");
+    sc_cfg.interval = sc_cfg.exposure / kSamplesPerExposure;
+    sampler_ = &sim_.emplace_timer<ed::FieldSampler>(sc_cfg, sim_.time());
+    if (sc.has("boundary.obstacle")) {
+      ed::ObstacleConfig oc;
+      oc.centre = {sc.get<double>("boundary.obstacle.x"), sc.get<double>("boundary.obstacle.y")};
+      oc.radius = sc.get<double>("boundary.obstacle.D") / 2;
+      const std::string kind = sc.get<std::string>("boundary.obstacle.kind");
+      oc.boundary = kind == "slip"             ? ed::ObstacleBoundary::slip
+                    : kind == "noslip_thermal" ? ed::ObstacleBoundary::thermal
+                                               : ed::ObstacleBoundary::flip;
+      oc.restitution = sc.get<double>("boundary.obstacle.r");
+      oc.kT = sim_.config().kT;  // boundary temperature of the thermal wall [TTKB98]
+      // Its own random stream, derived from the run's seed.
+      oc.seed = sim_.config().seed * 0x9e3779b97f4a7c15ULL + 1;
+      obstacle_ = &sim_.add_obstacle(oc);
+    }
+    add_stream_boundaries(sc);
+  }
+
+  double time() const override { return sim_.time(); }
+  void advance_to(double t) override { sim_.run_until(t); }
+  void advance_steps(std::uint64_t n) override { sim_.advance(n); }
+  std::uint64_t steps_done() const override { return sim_.stats().events; }
+
+  void snapshot(const std::string& colour_by, render::Snapshot& s) override {
+    sim_.synchronise();
+    const auto& cfg = sim_.config();
+    s.dim = 2;
+    s.lo = {0, 0, 0};
+    s.hi = {cfg.lx, cfg.ly, 0};
+    s.periodic = {cfg.periodic_x, cfg.periodic_y, false};
+    s.time = sim_.time();
+    const auto& disks = sim_.disks();
+    // Slots of disks that left an open stream are empty: only present disks are drawn.
+    const std::size_t count = std::size_t(sim_.count());
+    s.pos_radius.resize(count * 4);
+    s.attribute.clear();
+    s.attribute_categorical = false;
+    s.attribute_name = colour_by;
+    const bool coloured = colour_by != "uniform";
+    if (coloured) s.attribute.resize(count);
+    std::size_t k = 0;
+    for (std::size_t i = 0; i < disks.size(); ++i) {
+      if (!sim_.present(int(i))) continue;
+      const auto& d = disks[i];
+      const std::size_t out = k++;
+      float* p = &s.pos_radius[4 * out];
+      p[0] = float(d.x);
+      p[1] = float(d.y);
+      p[2] = 0.0f;
+      p[3] = float(d.r);
+      if (!coloured) continue;
+      double v = 0;
+      if (colour_by == "speed") v = std::hypot(d.vx, d.vy);
+      else if (colour_by == "vx") v = d.vx;
+      else if (colour_by == "vy") v = d.vy;
+      else if (colour_by == "spin") v = sim_.omega(i);
+      else if (colour_by == "height") v = d.y;
+      else throw Error("render.color_by = \"" + colour_by +
+                       "\" is not available for ED disks; allowed: uniform, speed, vx, vy, spin, height");
+      s.attribute[out] = float(v);
+    }
+    s.obstacles.clear();
+    if (obstacle_) s.obstacles.push_back({obstacle_->config().centre, obstacle_->config().radius});
+    // The exposure that ended most recently; none yet at the first frame.
+    auto exposures = sampler_->take_frames();
+    if (!exposures.empty()) {
+      set_binned_fields(std::move(exposures.back().fields), s);
+      mask_solid_bins(s);
+    }
+    if (cfg.stream.x() != 0 || cfg.stream.y() != 0) s.reference_velocity = Eigen::Vector2d(cfg.stream.x(), cfg.stream.y());
+  }
+
+  std::vector<std::string> stats_columns() const override {
+    return {"collisions", "events", "N", "kinetic_energy", "kT", "pressure", "mean_free_time", "momentum_x",
+            "momentum_y", "drag_x", "drag_y", "inserted", "removed", "N_frozen"};
+  }
+  std::vector<double> stats_row() override {
+    const ed::Observables o = sim_.observables();
+    sim_.synchronise();
+    const Vec2 p = sim_.momentum();
+    // Drag: momentum the obstacle received per unit time over the window (Fig. 4.19).
+    Vec2 drag = Vec2::Zero();
+    if (obstacle_ && o.duration > 0) {
+      drag = (obstacle_->impulse() - impulse_at_reset_) / o.duration;
+      impulse_at_reset_ = obstacle_->impulse();
+    }
+    // N: disks present; inserted/removed: disks that entered/left through open stream
+    // boundaries since the start; N_frozen: of N, those frozen by the filter (§3.3).
+    std::vector<double> row = {double(sim_.stats().collisions), double(sim_.stats().events), double(sim_.count()),
+                               sim_.kinetic_energy(), o.kT, o.pressure, o.mean_free_time, p.x(), p.y(),
+                               drag.x(), drag.y(), double(sim_.stats().inserted), double(sim_.stats().removed),
+                               double(sim_.state().frozen_count())};
+    sim_.reset_measurements();
+    return row;
+  }
+
+  double work() const override { return double(sim_.stats().collisions); }
+  std::string work_unit() const override { return "collisions"; }
+  std::vector<std::pair<std::string, double>> figures() const override {
+    return {{"obstacle_hits", obstacle_ ? double(obstacle_->hits()) : 0.0},
+            {"collisions", double(sim_.stats().collisions)},
+            {"events", double(sim_.stats().events)},
+            {"disks", double(sim_.count())},
+            {"disks_inserted", double(sim_.stats().inserted)},
+            {"disks_removed", double(sim_.stats().removed)},
+            {"area_fraction", sim_.area_fraction()}};
+  }
+
+  std::string state_digest() const override {
+    // Each present disk as stored (position and velocity at its own clock, spin), in slot
+    // order, with the clock: equal for runs that made the same events in the same order.
+    core::StateDigest dg;
+    dg.add(sim_.time());
+    const auto& disks = sim_.disks();
+    for (int i = 0; i < sim_.size(); ++i) {
+      if (!sim_.present(i)) continue;
+      const ed::Disk& d = disks[i];
+      dg.add(std::uint64_t(i));
+      for (double v : {d.x, d.y, d.vx, d.vy, d.t, sim_.omega(i)}) dg.add(v);
+    }
+    return dg.hex();
+  }
+
+private:
+  // Open inlet/outlet along x (seed 003 §3.2–3.3), with the system's U, kT and density.
+  void add_stream_boundaries(const Scene& sc) {
+    const std::string kind = sc.get<std::string>("boundary.stream.kind");
+    const ed::Config& c = sim_.config();
+    const std::uint64_t seed = c.seed * 0x9e3779b97f4a7c15ULL + 2;  // its own random streams
+    if (kind == "dispenser_filter") {
+      ed::DenseStreamConfig d;
+      d.U = c.stream.x();
+      d.kT = c.kT;
+      d.area_fraction = stream_area_fraction(sc, c);
+      d.filter_distance = sc.get<double>("boundary.stream.filter_distance");
+      d.piston = sc.get<std::string>("boundary.stream.piston") == "thermal" ? ed::PistonKind::thermal
+                                                                            : ed::PistonKind::elastic;
+      d.seed = seed;
+      dense_ = ed::add_dense_stream(sim_, d);
+    } else if (kind == "low_density") {
+      ed::LowDensityStreamConfig l;
+      l.U = c.stream.x();
+      l.kT = c.kT;
+      l.number_density = stream_area_fraction(sc, c) / (std::numbers::pi / 4.0);
+      l.seed = seed;
+      const double x_out = c.lx - 1.0;
+      sim_.remove_disks_unless([&](int i) { return sim_.disks()[i].x >= l.x_in && sim_.disks()[i].x <= x_out; });
+      ed::add_low_density_stream(sim_, l);
+    }
+  }
+
+  // Bins whose centre lies inside the obstacle, or beyond the outlet filter (frozen disks,
+  // not sampled), hold no gas: masked, not "empty" (seed 003 draws the obstacle over its
+  // fields).
+  void mask_solid_bins(render::Snapshot& s) const {
+    if (!obstacle_ && !dense_.filter) return;
+    auto solid = [&](const Vec2& p) {
+      if (obstacle_ && (p - obstacle_->config().centre).norm() < obstacle_->config().radius) return true;
+      return dense_.filter && p.x() > dense_.filter->plane();
+    };
+    auto mask = [&](auto& field) {
+      for (int iy = 0; iy < field.grid.ny; ++iy)
+        for (int ix = 0; ix < field.grid.nx; ++ix)
+          if (solid(field.grid.centre(ix, iy))) field.mask[field.grid.index(ix, iy)] = 0;
+    };
+    for (auto& f : s.fields) mask(f.field);
+    if (s.velocity) mask(*s.velocity);
+  }
+
+  ed::Simulation sim_;
+  ed::FieldSampler* sampler_ = nullptr;     // owned by sim_
+  ed::CircularObstacle* obstacle_ = nullptr;  // owned by sim_, when the scene has one
+  ed::DenseStream dense_;                      // agents owned by sim_, for dispenser_filter
+  Vec2 impulse_at_reset_ = Vec2::Zero();
+};
+
+}  // namespace
+
+std::unique_ptr<EngineRunner> make_ed_runner(const Scene& scene) { return std::make_unique<EdRunner>(scene); }
+
+}  // namespace grainflow::scenes

@@ -1,0 +1,102 @@
+#include "scenes/src/outputs/run_record.hpp"
+
+#include <ctime>
+#include <fstream>
+
+#include "engine/io/atomic_file.hpp"
+#include "engine/core/error.hpp"
+#include "scenes/src/outputs/json_writer.hpp"
+#include "scenes/src/scene/scene.hpp"
+
+#ifndef GRAINFLOW_VERSION
+#define GRAINFLOW_VERSION "unknown"
+#endif
+
+namespace grainflow::scenes {
+
+std::string_view run_status_name(RunStatus s) {
+  switch (s) {
+    case RunStatus::Running: return "running";
+    case RunStatus::Complete: return "complete";
+    case RunStatus::Interrupted: return "interrupted";
+    case RunStatus::Failed: return "failed";
+  }
+  return "?";
+}
+
+std::string utc_now_iso8601() {
+  const std::time_t t = std::time(nullptr);
+  std::tm tm{};
+  gmtime_r(&t, &tm);
+  char buf[32];
+  std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", &tm);
+  return buf;
+}
+
+RunRecord make_run_record(const Scene& scene) {
+  RunRecord r;
+  r.version = GRAINFLOW_VERSION;
+  r.engine = scene.engine();
+  r.seed = scene.get<std::int64_t>("run.seed");
+  r.title = scene.get<std::string>("run.title");
+  r.scene = scene.source().string();
+  r.overrides = scene.overrides();
+  r.backend = scene.get<std::string>("render.backend");
+  r.started_utc = utc_now_iso8601();
+  if (scene.has("run.until")) {
+    r.target = scene.get<double>("run.until");
+    r.target_kind = "until";
+  } else {
+    r.target = double(scene.get<std::int64_t>("run.steps"));
+    r.target_kind = "steps";
+  }
+  return r;
+}
+
+std::string run_record_json(const RunRecord& r) {
+  JsonWriter w;
+  w.begin_object();
+  w.key("grainflow_version").value(r.version);
+  w.key("status").value(run_status_name(r.status));
+  if (!r.error.empty()) w.key("error").value(r.error);
+  w.key("engine").value(r.engine);
+  w.key("seed").value(r.seed);
+  w.key("title").value(r.title);
+  w.key("scene").value(r.scene);
+  w.key("overrides").begin_array();
+  for (const auto& o : r.overrides) w.value(o);
+  w.end_array();
+  w.key("backend").value(r.backend);
+  w.key("started_utc").value(r.started_utc);
+  w.key("wall_time_s").value(r.wall_time_s);
+  w.key("sim_time").value(r.sim_time);
+  w.key(r.target_kind.empty() ? "target" : r.target_kind).value(r.target);
+  w.key("frames").value(r.frames);
+  w.key("throughput").begin_object();
+  for (const auto& t : r.throughput) {
+    w.key(t.name).begin_object();
+    w.key("per_second").value(t.per_second);
+    w.key("unit").value(t.unit);
+    w.end_object();
+  }
+  w.end_object();
+  w.key("figures").begin_object();
+  for (const auto& [k, v] : r.figures) w.key(k).value(v);
+  w.end_object();
+  if (!r.state_digest.empty()) w.key("state_digest").value(r.state_digest);
+  w.end_object();
+  return w.str() + "\n";
+}
+
+void write_run_record(const RunRecord& r, const std::filesystem::path& path) {
+  io::AtomicFile file(path);
+  {
+    std::ofstream out(file.path(), std::ios::binary | std::ios::trunc);
+    out << run_record_json(r);
+    out.flush();
+    if (!out) throw Error("cannot write '" + path.string() + "': write failed (disk full?)");
+  }
+  file.commit();
+}
+
+}  // namespace grainflow::scenes

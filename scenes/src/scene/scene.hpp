@@ -1,0 +1,66 @@
+// A validated scene (SPEC.md §3b): every key of the schema with its value or default,
+// read through typed accessors such as scene.get<double>("sample.exposure").
+// load_scene() is the entry point for `grainflow run`: parse, apply --set, validate.
+#pragma once
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "scenes/src/scene/scene_error.hpp"
+
+namespace grainflow::scenes {
+
+class Schema;
+
+class Scene {
+public:
+  struct Impl;
+  explicit Scene(std::shared_ptr<const Impl> impl) : impl_(std::move(impl)) {}
+
+  // Value of a key by dotted path; array-of-table elements by index:
+  // "system.group[1].radius". Supported T: bool, std::int64_t, int, double, std::string,
+  // std::vector<double|std::int64_t|int|bool|std::string>, std::array<double|int|bool, 2|3>.
+  // A key that is absent (optional key not given) or has another type is a programming
+  // error (std::logic_error): validation guarantees the types of every schema key.
+  template <class T> T get(std::string_view path) const;
+  // Same for an optional key: std::nullopt when absent.
+  template <class T> std::optional<T> find(std::string_view path) const {
+    if (!has(path)) return std::nullopt;
+    return get<T>(path);
+  }
+  bool has(std::string_view path) const;
+  // Number of elements of an array of tables ("system.group"); 0 when absent.
+  std::size_t count(std::string_view path) const;
+
+  const std::string& engine() const;
+  // The scene file this came from ("" for a string scene) and the --set overrides applied.
+  const std::filesystem::path& source() const;
+  const std::vector<std::string>& overrides() const;
+  const Schema& schema() const;
+
+  // The effective scene as TOML, in schema order, each key with its doc as a comment.
+  std::string to_toml() const;
+
+  const Impl& impl() const { return *impl_; }
+
+private:
+  std::shared_ptr<const Impl> impl_;
+};
+
+// Reads a scene file, applies `--set section.key=value` overrides (each string is
+// "section.key=value"), validates against the schema of its run.engine. Throws SceneError
+// with every problem found (file:line:column, key, value, what is allowed), or
+// grainflow::Error when the file cannot be read.
+Scene load_scene(const std::filesystem::path& path, const std::vector<std::string>& overrides = {});
+// The same from TOML text; `source_name` is used in messages.
+Scene parse_scene(std::string_view toml_text, std::string_view source_name = "scene",
+                  const std::vector<std::string>& overrides = {});
+
+// Writes scene.to_toml() to `path` atomically (temporary name + rename).
+void write_effective_scene(const Scene& scene, const std::filesystem::path& path);
+
+}  // namespace grainflow::scenes

@@ -1,0 +1,22 @@
+// The state behind a Scene: the effective toml::table plus where it came from. Internal to
+// the scene layer, so that code using Scene does not compile toml++.
+#pragma once
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include <toml++/toml.h>
+
+#include "scenes/src/scene/scene.hpp"
+
+namespace grainflow::scenes {
+
+struct Scene::Impl {
+  toml::table table;
+  std::string engine;
+  std::filesystem::path source;
+  std::vector<std::string> overrides;
+  const Schema* schema = nullptr;
+};
+
+}  // namespace grainflow::scenes
