@@ -7,6 +7,14 @@
 
 namespace grainflow::core {
 
+// Seed of a run's k-th independent random stream (obstacle walls, inlets, filters each
+// draw from their own, so adding one never shifts another's numbers): the run's seed
+// spread by the golden-ratio increment, offset by k. Rng's splitmix64 seeding decorrelates
+// neighbouring seeds.
+constexpr std::uint64_t substream_seed(std::uint64_t run_seed, std::uint64_t k) {
+  return run_seed * 0x9e3779b97f4a7c15ULL + k;
+}
+
 class Rng {
 public:
   explicit Rng(std::uint64_t seed = 1);

@@ -1,5 +1,7 @@
 #include "engine/ed/dense_stream.hpp"
 
+#include "engine/core/rng.hpp"
+
 #include <fmt/format.h>
 
 #include "engine/core/error.hpp"
@@ -40,7 +42,7 @@ DenseStream add_dense_stream(Simulation& sim, const DenseStreamConfig& cfg) {
   fc.kT = cfg.kT;
   fc.mass = mass;
   fc.delete_instead_of_freeze = cfg.delete_instead_of_freeze;
-  fc.seed = cfg.seed * 0x9e3779b97f4a7c15ULL + 0x5151;
+  fc.seed = core::substream_seed(cfg.seed, 0x5151);
   auto piston = std::make_unique<DispenserPiston>(dc, sim.time(), c.ly, c.periodic_y);
   auto filter = std::make_unique<StreamFilter>(fc);
   sim.synchronise();

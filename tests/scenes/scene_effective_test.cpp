@@ -7,6 +7,7 @@
 #include <sstream>
 #include <string>
 
+#include "scenes/src/run/scene_catalog.hpp"
 #include "scenes/src/scene/scene.hpp"
 #include "scenes/src/scene/schema.hpp"
 

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "engine/core/error.hpp"
+#include "scenes/src/run/scene_catalog.hpp"
 #include "scenes/src/scene/scene.hpp"
 
 using namespace grainflow::scenes;

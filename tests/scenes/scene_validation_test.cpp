@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "scenes/src/run/scene_catalog.hpp"
 #include "scenes/src/scene/scene.hpp"
 #include "scenes/src/engines/engine_table.hpp"
 #include "scenes/src/scene/schema.hpp"

@@ -1,7 +1,7 @@
 // What the run loop (`grainflow run`) needs from an engine, whatever its physics: advance
 // in simulated time, draw its state into a Snapshot, give a stats.csv row and its
-// throughput. One adapter per engine (ed_runner.cpp, dem_runner.cpp), registered in
-// engines.cpp.
+// throughput. One adapter per engine (ed/ed_runner.cpp, dem/dem_runner.cpp), registered in
+// the engine table (engine_table.cpp).
 #pragma once
 #include <filesystem>
 #include <memory>
@@ -11,10 +11,9 @@
 #include <vector>
 
 #include "render/snapshot.hpp"
+#include "scenes/src/outputs/run_output.hpp"
 
 namespace grainflow::scenes {
-
-class Scene;
 
 class EngineRunner {
 public:
@@ -29,7 +28,7 @@ public:
   virtual std::uint64_t steps_done() const = 0;
 
   // Particles (synchronised to time()), domain and obstacles, coloured by `colour_by`
-  // (render.color_by).
+  // (render.color_by: one of the engine's colour attributes, checked by validation).
   virtual void snapshot(const std::string& colour_by, render::Snapshot& out) = 0;
 
   // stats.csv: column names (after `time`) and one row over the window since the last
@@ -46,14 +45,9 @@ public:
   // mean bit-identical runs. Empty when the engine has none.
   virtual std::string state_digest() const { return {}; }
 
-  // Engine-specific files in the run folder (DEM: pair.csv). open_outputs() is called once
-  // before the first step; finish_outputs() renames them into place when the run ends
-  // (complete or interrupted). A failed run leaves only temporaries, which are removed.
-  virtual void open_outputs(const std::filesystem::path& /*run_dir*/) {}
-  virtual void finish_outputs() {}
+  // Engine-specific files in the run folder (DEM: pair.csv), opened once before the first
+  // step; the run loop finishes or fails them with the table's outputs.
+  virtual std::vector<std::unique_ptr<RunOutput>> open_outputs(const OutputContext& /*context*/) { return {}; }
 };
-
-std::unique_ptr<EngineRunner> make_ed_runner(const Scene& scene);
-std::unique_ptr<EngineRunner> make_dem_runner(const Scene& scene);
 
 }  // namespace grainflow::scenes

@@ -1,17 +1,28 @@
 #include "scenes/src/engines/engine_table.hpp"
 
-#include "scenes/src/engines/engine_runner.hpp"
-#include "scenes/src/scene/schema.hpp"
+#include <array>
 
 namespace grainflow::scenes {
 
-const std::vector<EngineEntry>& engines() {
-  static const std::vector<EngineEntry> list = {
-      {"ed", "2D event-driven hard disks (seed 003, Baryshev 2003)", &add_ed_schema, &make_ed_runner},
-      {"dem", "3D soft-sphere DEM with Walton contacts (seed 000, Sweetman 2003)", &add_dem_schema,
-       &make_dem_runner},
-  };
-  return list;
+// Each engine's row, defined beside its keys and runner in engines/<name>/.
+EngineEntry ed_engine();
+EngineEntry dem_engine();
+
+std::span<const EngineEntry> engines() {
+  static const std::array<EngineEntry, 2> table = {ed_engine(), dem_engine()};
+  return table;
+}
+
+const EngineEntry* find_engine(std::string_view name) {
+  for (const auto& e : engines())
+    if (e.name == name) return &e;
+  return nullptr;
+}
+
+std::vector<std::string> engine_names() {
+  std::vector<std::string> names;
+  for (const auto& e : engines()) names.emplace_back(e.name);
+  return names;
 }
 
 }  // namespace grainflow::scenes

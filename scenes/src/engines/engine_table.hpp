@@ -1,8 +1,12 @@
-// The one registration place for engines: the name a scene gives in run.engine, a line
-// for `grainflow info`, the engine's [system]/[boundary] schema and its run adapter.
-// Adding an engine means adding one entry to engines() in engines.cpp.
+// The one table of engines: the name a scene gives in run.engine, a line for `grainflow
+// info`, the keys the engine consumes ([system], [boundary], and any others its runner
+// reads), the colour attributes its particles offer to render.color_by, and its runner.
+// Adding an engine = a folder engines/<name>/ (keys + runner) and one row in
+// engine_table.cpp.
 #pragma once
 #include <memory>
+#include <span>
+#include <string>
 #include <string_view>
 #include <vector>
 
@@ -15,10 +19,15 @@ class EngineRunner;
 struct EngineEntry {
   std::string_view name;
   std::string_view description;
-  void (*add_schema)(Schema&);
+  void (*declare_keys)(Schema&);
+  // The values render.color_by may take for this engine's particles ("uniform" first).
+  std::vector<std::string> (*colour_attributes)();
   std::unique_ptr<EngineRunner> (*make_runner)(const Scene&);
 };
 
-const std::vector<EngineEntry>& engines();
+std::span<const EngineEntry> engines();
+// The row of `name`, or nullptr.
+const EngineEntry* find_engine(std::string_view name);
+std::vector<std::string> engine_names();
 
 }  // namespace grainflow::scenes

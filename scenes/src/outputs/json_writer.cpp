@@ -1,5 +1,7 @@
 #include "scenes/src/outputs/json_writer.hpp"
 
+#include "scenes/src/scene/toml_text.hpp"
+
 #include <charconv>
 #include <cmath>
 #include <cstdio>
@@ -7,29 +9,8 @@
 
 namespace grainflow::scenes {
 
-std::string json_string(std::string_view s) {
-  std::string out = "\"";
-  for (unsigned char c : s) {
-    switch (c) {
-      case '"': out += "\\\""; break;
-      case '\\': out += "\\\\"; break;
-      case '\b': out += "\\b"; break;
-      case '\f': out += "\\f"; break;
-      case '\n': out += "\\n"; break;
-      case '\r': out += "\\r"; break;
-      case '\t': out += "\\t"; break;
-      default:
-        if (c < 0x20) {
-          char buf[8];
-          std::snprintf(buf, sizeof buf, "\\u%04x", unsigned(c));
-          out += buf;
-        } else {
-          out += char(c);
-        }
-    }
-  }
-  return out + "\"";
-}
+// JSON and TOML basic strings escape alike: one escaper for both (scene/toml_text).
+std::string json_string(std::string_view s) { return toml_string(s); }
 
 std::string json_number(double v) {
   if (!std::isfinite(v)) return "null";

@@ -6,6 +6,8 @@
 #include "engine/io/atomic_file.hpp"
 #include "engine/core/error.hpp"
 #include "scenes/src/outputs/json_writer.hpp"
+#include "scenes/src/outputs/output_table.hpp"
+#include "scenes/src/scene/run_keys.hpp"
 #include "scenes/src/scene/scene.hpp"
 
 #ifndef GRAINFLOW_VERSION
@@ -37,17 +39,16 @@ RunRecord make_run_record(const Scene& scene) {
   RunRecord r;
   r.version = GRAINFLOW_VERSION;
   r.engine = scene.engine();
-  r.seed = scene.get<std::int64_t>("run.seed");
-  r.title = scene.get<std::string>("run.title");
+  r.seed = scene.get(run_keys::seed);
+  r.title = scene.get(run_keys::title);
   r.scene = scene.source().string();
   r.overrides = scene.overrides();
-  r.backend = scene.get<std::string>("render.backend");
   r.started_utc = utc_now_iso8601();
-  if (scene.has("run.until")) {
-    r.target = scene.get<double>("run.until");
+  if (auto until = scene.find(run_keys::until)) {
+    r.target = *until;
     r.target_kind = "until";
   } else {
-    r.target = double(scene.get<std::int64_t>("run.steps"));
+    r.target = double(scene.get(run_keys::steps));
     r.target_kind = "steps";
   }
   return r;
@@ -97,6 +98,32 @@ void write_run_record(const RunRecord& r, const std::filesystem::path& path) {
     if (!out) throw Error("cannot write '" + path.string() + "': write failed (disk full?)");
   }
   file.commit();
+}
+
+namespace {
+
+// run.json: written when the run starts ("running"), at its end and when it fails.
+class RunJsonOutput final : public RunOutput {
+public:
+  explicit RunJsonOutput(std::filesystem::path file) : file_(std::move(file)) {}
+  void start(const RunRecord& r) override { write_run_record(r, file_); }
+  void finish(const RunRecord& r) override { write_run_record(r, file_); }
+  void fail(const RunRecord& r) override { write_run_record(r, file_); }
+
+private:
+  std::filesystem::path file_;
+};
+
+void declare_nothing(Schema&) {}
+
+std::unique_ptr<RunOutput> open_run_json(const OutputContext& c) {
+  return std::make_unique<RunJsonOutput>(c.dir / "run.json");
+}
+
+}  // namespace
+
+OutputEntry run_json_output() {
+  return {"run.json", "run.json: how the run was made and how it went", &declare_nothing, nullptr, &open_run_json};
 }
 
 }  // namespace grainflow::scenes

@@ -43,8 +43,8 @@ struct RunRecord {
   std::string state_digest;  // EngineRunner::state_digest() at the end of the run
 };
 
-// Fills version, engine, seed, title, scene, overrides, requested backend, target and the
-// start time from a validated scene.
+// Fills version, engine, seed, title, scene, overrides, target and the start time from a
+// validated scene (the run loop adds the GL backend it got).
 RunRecord make_run_record(const Scene& scene);
 
 std::string run_record_json(const RunRecord& r);

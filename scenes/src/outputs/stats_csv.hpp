@@ -9,7 +9,14 @@
 #include <string>
 #include <vector>
 
+#include "scenes/src/scene/schema.hpp"
+
 namespace grainflow::scenes {
+
+namespace stats_keys {
+// Simulated time between rows (0 = one per frame): the run loop schedules rows by it.
+inline constexpr Key<double> every{"output.stats_every"};
+}  // namespace stats_keys
 
 class StatsCsv {
 public:

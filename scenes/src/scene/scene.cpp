@@ -11,6 +11,7 @@
 
 #include "engine/io/atomic_file.hpp"
 #include "engine/core/error.hpp"
+#include "scenes/src/scene/run_keys.hpp"
 #include "scenes/src/scene/scene_impl.hpp"
 #include "scenes/src/scene/overrides.hpp"
 #include "scenes/src/scene/validate.hpp"
@@ -107,7 +108,7 @@ std::pair<unsigned long, unsigned long> file_position(const std::string& loc) {
 }
 
 Scene build(std::string_view text, const std::string& source_name, const std::filesystem::path& source_path,
-            const std::vector<std::string>& overrides) {
+            const std::vector<std::string>& overrides, const SchemaCatalog& catalog) {
   std::vector<SceneIssue> issues;
   toml::table doc;
   try {
@@ -123,7 +124,7 @@ Scene build(std::string_view text, const std::string& source_name, const std::fi
     const Override o = parse_override(arg);
     apply_override(doc, o, origins, issues);
   }
-  ValidatedScene v = validate_scene(doc, origins, source_name, issues);
+  ValidatedScene v = validate_scene(doc, origins, source_name, catalog, issues);
   if (!issues.empty()) {
     // Tables iterate in key order; the user reads the file top to bottom, then the --sets.
     std::stable_sort(issues.begin(), issues.end(), [](const SceneIssue& a, const SceneIssue& b) {
@@ -181,18 +182,33 @@ std::size_t Scene::count(std::string_view path) const {
   return a->size();
 }
 
-const std::string& Scene::engine() const { return impl_->engine; }
+const std::string& Scene::engine() const {
+  note_read(run_keys::engine.path);  // the one consumer of run.engine
+  return impl_->engine;
+}
 const std::filesystem::path& Scene::source() const { return impl_->source; }
 const std::vector<std::string>& Scene::overrides() const { return impl_->overrides; }
 const Schema& Scene::schema() const { return *impl_->schema; }
 
-Scene load_scene(const std::filesystem::path& path, const std::vector<std::string>& overrides) {
+Scene load_scene(const std::filesystem::path& path, const std::vector<std::string>& overrides,
+                 const SchemaCatalog& catalog) {
   const std::string text = read_file(path);
-  return build(text, path.string(), path, overrides);
+  return build(text, path.string(), path, overrides, catalog);
 }
 
-Scene parse_scene(std::string_view toml_text, std::string_view source_name, const std::vector<std::string>& overrides) {
-  return build(toml_text, std::string(source_name), {}, overrides);
+Scene parse_scene(std::string_view toml_text, std::string_view source_name, const std::vector<std::string>& overrides,
+                  const SchemaCatalog& catalog) {
+  return build(toml_text, std::string(source_name), {}, overrides, catalog);
+}
+
+void Scene::note_read(std::string_view path) const {
+  std::lock_guard lock(impl_->read_mutex);
+  if (impl_->read.find(path) == impl_->read.end()) impl_->read.emplace(path);
+}
+
+std::vector<std::string> Scene::keys_read() const {
+  std::lock_guard lock(impl_->read_mutex);
+  return {impl_->read.begin(), impl_->read.end()};
 }
 
 void write_effective_scene(const Scene& scene, const std::filesystem::path& path) {

@@ -11,10 +11,9 @@
 #include <vector>
 
 #include "scenes/src/scene/scene_error.hpp"
+#include "scenes/src/scene/schema.hpp"
 
 namespace grainflow::scenes {
-
-class Schema;
 
 class Scene {
 public:
@@ -36,6 +35,31 @@ public:
   // Number of elements of an array of tables ("system.group"); 0 when absent.
   std::size_t count(std::string_view path) const;
 
+  // Reads through the key's typed handle, the one its consumer declared it with; these
+  // reads are recorded (keys_read) so tests find declared keys that nothing consumes.
+  template <class T> T get(const Key<T>& key) const {
+    note_read(key.path);
+    return get<T>(key.path);
+  }
+  template <class T> std::optional<T> find(const Key<T>& key) const {
+    note_read(key.path);
+    return find<T>(key.path);
+  }
+  template <class T> bool has(const Key<T>& key) const {
+    note_read(key.path);
+    return has(key.path);
+  }
+  // Element `index` of an array of tables: key "system.group.radius" reads
+  // "system.group[index].radius".
+  template <class T> T get(const Key<T>& key, std::size_t index) const {
+    note_read(key.path);
+    return get<T>(std::string(key.table()) + "[" + std::to_string(index) + "]." + std::string(key.name()));
+  }
+  bool has(TableKey table) const { return has(table.path); }
+  std::size_t count(TableKey table) const { return count(table.path); }
+  // Dotted paths (no indices) read through Key handles since the scene was loaded.
+  std::vector<std::string> keys_read() const;
+
   const std::string& engine() const;
   // The scene file this came from ("" for a string scene) and the --set overrides applied.
   const std::filesystem::path& source() const;
@@ -48,17 +72,20 @@ public:
   const Impl& impl() const { return *impl_; }
 
 private:
+  void note_read(std::string_view path) const;
   std::shared_ptr<const Impl> impl_;
 };
 
 // Reads a scene file, applies `--set section.key=value` overrides (each string is
-// "section.key=value"), validates against the schema of its run.engine. Throws SceneError
-// with every problem found (file:line:column, key, value, what is allowed), or
-// grainflow::Error when the file cannot be read.
-Scene load_scene(const std::filesystem::path& path, const std::vector<std::string>& overrides = {});
+// "section.key=value"), validates against the catalog's schema for its run.engine. Throws
+// SceneError with every problem found (file:line:column, key, value, what is allowed), or
+// grainflow::Error when the file cannot be read. (run/scene_catalog.hpp has the versions
+// with the application's catalog.)
+Scene load_scene(const std::filesystem::path& path, const std::vector<std::string>& overrides,
+                 const SchemaCatalog& catalog);
 // The same from TOML text; `source_name` is used in messages.
-Scene parse_scene(std::string_view toml_text, std::string_view source_name = "scene",
-                  const std::vector<std::string>& overrides = {});
+Scene parse_scene(std::string_view toml_text, std::string_view source_name, const std::vector<std::string>& overrides,
+                  const SchemaCatalog& catalog);
 
 // Writes scene.to_toml() to `path` atomically (temporary name + rename).
 void write_effective_scene(const Scene& scene, const std::filesystem::path& path);

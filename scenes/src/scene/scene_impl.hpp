@@ -2,6 +2,8 @@
 // the scene layer, so that code using Scene does not compile toml++.
 #pragma once
 #include <filesystem>
+#include <mutex>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -17,6 +19,10 @@ struct Scene::Impl {
   std::filesystem::path source;
   std::vector<std::string> overrides;
   const Schema* schema = nullptr;
+  // Keys read through their handles (Scene::get(Key)); a Scene is read by one run at a
+  // time, the mutex keeps the record sound if a sink thread reads too.
+  mutable std::mutex read_mutex;
+  mutable std::set<std::string, std::less<>> read;
 };
 
 }  // namespace grainflow::scenes

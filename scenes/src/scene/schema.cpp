@@ -1,5 +1,4 @@
 #include "scenes/src/scene/schema.hpp"
-#include "scenes/src/engines/engine_table.hpp"
 
 #include <cmath>
 #include <map>
@@ -127,82 +126,87 @@ const KeySpec* TableSpec::find_key(std::string_view name) const {
   return nullptr;
 }
 
-KeySpec& TableSpec::add(KeySpec k) {
+KeySpec& TableSpec::add(std::string_view key_path, KeySpec k) {
+  const auto dot = key_path.rfind('.');
+  if (dot == std::string_view::npos || key_path.substr(0, dot) != path_)
+    throw std::logic_error("scene schema: key " + std::string(key_path) + " declared in table [" + path_ + "]");
+  k.name = std::string(key_path.substr(dot + 1));
   if (find_key(k.name)) throw std::logic_error("scene schema: key " + path_ + "." + k.name + " registered twice");
   keys_.push_back(std::move(k));
   return keys_.back();
 }
 
-KeySpec& TableSpec::add_bool(std::string name, bool def, std::string doc) {
+KeySpec& TableSpec::add_bool(Key<bool> key, bool def, std::string doc) {
   KeySpec k;
-  k.name = std::move(name), k.type = KeyType::Bool, k.default_value = def, k.doc = std::move(doc);
-  return add(std::move(k));
+  k.type = KeyType::Bool, k.default_value = def, k.doc = std::move(doc);
+  return add(key.path, std::move(k));
 }
 
-KeySpec& TableSpec::add_int(std::string name, std::int64_t def, std::string doc, std::string unit) {
+KeySpec& TableSpec::add_int_impl(std::string_view path, std::int64_t def, std::string doc, std::string unit) {
   KeySpec k;
-  k.name = std::move(name), k.type = KeyType::Int, k.default_value = def, k.doc = std::move(doc);
+  k.type = KeyType::Int, k.default_value = def, k.doc = std::move(doc);
   k.unit = std::move(unit);
-  return add(std::move(k));
+  return add(path, std::move(k));
 }
 
-KeySpec& TableSpec::add_float(std::string name, double def, std::string doc, std::string unit) {
+KeySpec& TableSpec::add_float(Key<double> key, double def, std::string doc, std::string unit) {
   KeySpec k;
-  k.name = std::move(name), k.type = KeyType::Float, k.default_value = def, k.doc = std::move(doc);
+  k.type = KeyType::Float, k.default_value = def, k.doc = std::move(doc);
   k.unit = std::move(unit);
-  return add(std::move(k));
+  return add(key.path, std::move(k));
 }
 
-KeySpec& TableSpec::add_string(std::string name, std::string def, std::string doc) {
+KeySpec& TableSpec::add_string(Key<std::string> key, std::string def, std::string doc) {
   KeySpec k;
-  k.name = std::move(name), k.type = KeyType::String, k.default_value = std::move(def), k.doc = std::move(doc);
-  return add(std::move(k));
+  k.type = KeyType::String, k.default_value = std::move(def), k.doc = std::move(doc);
+  return add(key.path, std::move(k));
 }
 
-KeySpec& TableSpec::add_enum(std::string name, std::vector<std::string> choices, std::string def, std::string doc) {
+KeySpec& TableSpec::add_enum(Key<std::string> key, std::vector<std::string> choices, std::string def,
+                             std::string doc) {
   KeySpec k;
-  k.name = std::move(name), k.type = KeyType::Enum, k.choices = std::move(choices);
+  k.type = KeyType::Enum, k.choices = std::move(choices);
   k.default_value = std::move(def), k.doc = std::move(doc);
-  return add(std::move(k));
+  return add(key.path, std::move(k));
 }
 
-KeySpec& TableSpec::add_float_array(std::string name, std::vector<double> def, std::vector<std::string> element_names,
-                                    std::string doc, std::string unit) {
+KeySpec& TableSpec::add_float_array_impl(std::string_view path, std::vector<double> def,
+                                         std::vector<std::string> element_names, std::string doc, std::string unit) {
   KeySpec k;
-  k.name = std::move(name), k.type = KeyType::NumberArray, k.doc = std::move(doc), k.unit = std::move(unit);
+  k.type = KeyType::NumberArray, k.doc = std::move(doc), k.unit = std::move(unit);
   k.min_length = k.max_length = element_names.size();
   k.element_names = std::move(element_names);
   k.default_value = std::move(def);
-  return add(std::move(k));
+  return add(path, std::move(k));
 }
 
-KeySpec& TableSpec::add_int_array(std::string name, std::vector<std::int64_t> def,
-                                  std::vector<std::string> element_names, std::string doc, std::string unit) {
+KeySpec& TableSpec::add_int_array_impl(std::string_view path, std::vector<std::int64_t> def,
+                                       std::vector<std::string> element_names, std::string doc, std::string unit) {
   KeySpec k;
-  k.name = std::move(name), k.type = KeyType::NumberArray, k.element_integer = true;
+  k.type = KeyType::NumberArray, k.element_integer = true;
   k.doc = std::move(doc), k.unit = std::move(unit);
   k.min_length = k.max_length = element_names.size();
   k.element_names = std::move(element_names);
   k.default_value = std::move(def);
-  return add(std::move(k));
+  return add(path, std::move(k));
 }
 
-KeySpec& TableSpec::add_bool_array(std::string name, std::vector<bool> def, std::vector<std::string> element_names,
-                                   std::string doc) {
+KeySpec& TableSpec::add_bool_array_impl(std::string_view path, std::vector<bool> def,
+                                        std::vector<std::string> element_names, std::string doc) {
   KeySpec k;
-  k.name = std::move(name), k.type = KeyType::BoolArray, k.doc = std::move(doc);
+  k.type = KeyType::BoolArray, k.doc = std::move(doc);
   k.min_length = k.max_length = element_names.size();
   k.element_names = std::move(element_names);
   k.default_value = std::move(def);
-  return add(std::move(k));
+  return add(path, std::move(k));
 }
 
-KeySpec& TableSpec::add_string_array(std::string name, std::vector<std::string> choices, std::vector<std::string> def,
-                                     std::string doc) {
+KeySpec& TableSpec::add_string_array(Key<std::vector<std::string>> key, std::vector<std::string> choices,
+                                     std::vector<std::string> def, std::string doc) {
   KeySpec k;
-  k.name = std::move(name), k.type = KeyType::StringArray, k.choices = std::move(choices);
+  k.type = KeyType::StringArray, k.choices = std::move(choices);
   k.default_value = std::move(def), k.doc = std::move(doc);
-  return add(std::move(k));
+  return add(key.path, std::move(k));
 }
 
 TableSpec& Schema::add_table(std::string path, TableKind kind, std::string doc) {
@@ -235,38 +239,6 @@ const KeySpec* Schema::find_key(std::string_view dotted) const {
   if (dot == std::string_view::npos) return nullptr;
   const TableSpec* t = find_table(dotted.substr(0, dot));
   return t ? t->find_key(dotted.substr(dot + 1)) : nullptr;
-}
-
-const std::vector<std::string>& engine_section_names() {
-  static const std::vector<std::string> names = {"system", "boundary"};
-  return names;
-}
-
-const Schema& common_schema() {
-  static const Schema s = [] {
-    Schema c;
-    add_common_schema(c);
-    return c;
-  }();
-  return s;
-}
-
-const Schema& schema_for_engine(std::string_view engine) {
-  static std::mutex mutex;
-  static std::map<std::string, std::unique_ptr<Schema>, std::less<>> built;
-  std::lock_guard lock(mutex);
-  if (auto it = built.find(engine); it != built.end()) return *it->second;
-  for (const auto& e : engines()) {
-    if (e.name == engine) {
-      auto s = std::make_unique<Schema>();
-      add_common_schema(*s);
-      e.add_schema(*s);
-      const Schema& ref = *s;
-      built.emplace(std::string(engine), std::move(s));
-      return ref;
-    }
-  }
-  throw Error("unknown engine '" + std::string(engine) + "'");
 }
 
 std::string describe_schema(const Schema& s) {

@@ -2,9 +2,11 @@
 // hold, with type, default, allowed range or choices, a one-line doc and a unit. One schema
 // serves both engines: common sections plus the [system]/[boundary] keys an engine registers.
 #pragma once
+#include <concepts>
 #include <cstdint>
 #include <functional>
 #include <optional>
+#include <span>
 #include <string>
 #include <string_view>
 #include <variant>
@@ -14,6 +16,21 @@ namespace grainflow::scenes {
 
 class Scene;
 class SceneCheck;
+
+// A typed handle on one key of the schema, by its dotted path without array indices
+// ("system.kT", "system.group.radius"). The code that consumes a key declares it with this
+// handle (TableSpec::add_*) and reads it with the same one (Scene::get(key)), so a path is
+// spelled once and a test can find declared keys that nothing reads (Scene::keys_read).
+template <class T> struct Key {
+  std::string_view path;
+  constexpr std::string_view table() const { return path.substr(0, path.rfind('.')); }
+  constexpr std::string_view name() const { return path.substr(path.rfind('.') + 1); }
+};
+// A handle on a table: optional tables are read by presence (Scene::has), arrays of tables
+// by count (Scene::count).
+struct TableKey {
+  std::string_view path;
+};
 
 enum class KeyType {
   Bool,         // true | false
@@ -96,22 +113,47 @@ public:
   const KeySpec* find_key(std::string_view name) const;
   std::size_t min_count = 0;  // Array tables: fewest elements
 
-  KeySpec& add_bool(std::string name, bool def, std::string doc);
-  KeySpec& add_int(std::string name, std::int64_t def, std::string doc, std::string unit = {});
-  KeySpec& add_float(std::string name, double def, std::string doc, std::string unit = {});
-  KeySpec& add_string(std::string name, std::string def, std::string doc);
-  KeySpec& add_enum(std::string name, std::vector<std::string> choices, std::string def, std::string doc);
-  KeySpec& add_float_array(std::string name, std::vector<double> def, std::vector<std::string> element_names,
-                           std::string doc, std::string unit = {});
-  KeySpec& add_int_array(std::string name, std::vector<std::int64_t> def, std::vector<std::string> element_names,
-                         std::string doc, std::string unit = {});
-  KeySpec& add_bool_array(std::string name, std::vector<bool> def, std::vector<std::string> element_names,
-                          std::string doc);
-  KeySpec& add_string_array(std::string name, std::vector<std::string> choices, std::vector<std::string> def,
-                            std::string doc);
+  // Keys are declared through their typed handles (Key<T> above), the same handles the
+  // code that consumes them reads with; the handle's table must be this table.
+  KeySpec& add_bool(Key<bool> key, bool def, std::string doc);
+  template <class I>
+    requires std::same_as<I, std::int64_t> || std::same_as<I, int>
+  KeySpec& add_int(Key<I> key, std::int64_t def, std::string doc, std::string unit = {}) {
+    return add_int_impl(key.path, def, std::move(doc), std::move(unit));
+  }
+  KeySpec& add_float(Key<double> key, double def, std::string doc, std::string unit = {});
+  KeySpec& add_string(Key<std::string> key, std::string def, std::string doc);
+  KeySpec& add_enum(Key<std::string> key, std::vector<std::string> choices, std::string def, std::string doc);
+  template <class A>
+    requires std::same_as<typename A::value_type, double>
+  KeySpec& add_float_array(Key<A> key, std::vector<double> def, std::vector<std::string> element_names,
+                           std::string doc, std::string unit = {}) {
+    return add_float_array_impl(key.path, std::move(def), std::move(element_names), std::move(doc), std::move(unit));
+  }
+  template <class A>
+    requires std::same_as<typename A::value_type, int> || std::same_as<typename A::value_type, std::int64_t>
+  KeySpec& add_int_array(Key<A> key, std::vector<std::int64_t> def, std::vector<std::string> element_names,
+                         std::string doc, std::string unit = {}) {
+    return add_int_array_impl(key.path, std::move(def), std::move(element_names), std::move(doc), std::move(unit));
+  }
+  template <class A>
+    requires std::same_as<typename A::value_type, bool>
+  KeySpec& add_bool_array(Key<A> key, std::vector<bool> def, std::vector<std::string> element_names,
+                          std::string doc) {
+    return add_bool_array_impl(key.path, std::move(def), std::move(element_names), std::move(doc));
+  }
+  KeySpec& add_string_array(Key<std::vector<std::string>> key, std::vector<std::string> choices,
+                            std::vector<std::string> def, std::string doc);
 
 private:
-  KeySpec& add(KeySpec k);
+  KeySpec& add(std::string_view key_path, KeySpec k);
+  KeySpec& add_int_impl(std::string_view path, std::int64_t def, std::string doc, std::string unit);
+  KeySpec& add_float_array_impl(std::string_view path, std::vector<double> def, std::vector<std::string> names,
+                                std::string doc, std::string unit);
+  KeySpec& add_int_array_impl(std::string_view path, std::vector<std::int64_t> def, std::vector<std::string> names,
+                              std::string doc, std::string unit);
+  KeySpec& add_bool_array_impl(std::string_view path, std::vector<bool> def, std::vector<std::string> names,
+                               std::string doc);
   std::string path_;
   TableKind kind_;
   std::string doc_;
@@ -135,6 +177,8 @@ public:
   TableSpec& section(std::string path, std::string doc) { return add_table(std::move(path), TableKind::Section, std::move(doc)); }
   TableSpec& optional_table(std::string path, std::string doc) { return add_table(std::move(path), TableKind::Optional, std::move(doc)); }
   TableSpec& array_table(std::string path, std::string doc) { return add_table(std::move(path), TableKind::Array, std::move(doc)); }
+  TableSpec& optional_table(TableKey t, std::string doc) { return optional_table(std::string(t.path), std::move(doc)); }
+  TableSpec& array_table(TableKey t, std::string doc) { return array_table(std::string(t.path), std::move(doc)); }
   // Adds keys to an existing table (an engine adding [sample] plane, say).
   TableSpec& table(std::string_view path);
   void add_check(CrossCheck c) { checks_.push_back(std::move(c)); }
@@ -151,22 +195,20 @@ private:
   std::vector<CrossCheck> checks_;
 };
 
-// ---- registration: the one place that knows the engines (scene_schema.cpp) ----
-
-// Common sections: [run], [sample], [render], [output] (scene_schema_common.cpp).
-void add_common_schema(Schema& s);
-// Engine-specific [system]/[boundary] keys (scene_schema_ed.cpp, scene_schema_dem.cpp).
-void add_ed_schema(Schema& s);
-void add_dem_schema(Schema& s);
-
-// The engines a scene may name, in the order `run.engine` lists them: engines() in
-// scenes/src/engines.hpp, the one registration place (schema + runner per engine).
-// Sections that only engines fill: known names even when run.engine is invalid.
-const std::vector<std::string>& engine_section_names();
-// Common + engine schema, built once per engine. Throws grainflow::Error for an unknown engine.
-const Schema& schema_for_engine(std::string_view engine);
-// Common sections only (used to read run.engine before the engine is known).
-const Schema& common_schema();
+// Which schema a scene is checked against. The scene layer knows no engine: whoever loads
+// scenes supplies the catalog (run/scene_catalog.hpp assembles it from the engine and
+// output tables).
+class SchemaCatalog {
+public:
+  virtual ~SchemaCatalog() = default;
+  // The sections every scene has, to read run.engine before the engine is known.
+  virtual const Schema& common() const = 0;
+  // The full schema a run.engine name selects; nullptr for an unknown name.
+  virtual const Schema* for_engine(std::string_view engine) const = 0;
+  // Sections only engines fill ("system", "boundary"): not reported as unknown while
+  // run.engine itself is invalid (its own error is).
+  virtual std::span<const std::string> engine_sections() const = 0;
+};
 
 // Human-readable reference of every key (type, default, range, unit, doc).
 std::string describe_schema(const Schema& s);

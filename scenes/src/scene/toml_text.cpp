@@ -33,7 +33,7 @@ std::string toml_string(std::string_view s) {
       default:
         if (c < 0x20 || c == 0x7f) {
           char buf[8];
-          std::snprintf(buf, sizeof buf, "\\u%04X", unsigned(c));
+          std::snprintf(buf, sizeof buf, "\\u%04x", unsigned(c));
           out += buf;
         } else {
           out += char(c);

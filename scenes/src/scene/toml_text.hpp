@@ -12,7 +12,8 @@ namespace grainflow::scenes {
 // so TOML reads it as a float ("1.0", "2.5e-07"); "inf"/"nan" spelled the TOML way.
 std::string toml_float(double v);
 std::string toml_int(std::int64_t v);
-// "…" with \" \\ \b \t \n \f \r and \uXXXX for other control characters.
+// "…" with \" \\ \b \t \n \f \r and \u00xx for other control characters (DEL included);
+// UTF-8 passes as is. The same text is a valid JSON string: run.json uses it too.
 std::string toml_string(std::string_view s);
 
 }  // namespace grainflow::scenes

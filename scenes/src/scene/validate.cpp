@@ -1,5 +1,4 @@
 #include "scenes/src/scene/validate.hpp"
-#include "scenes/src/engines/engine_table.hpp"
 
 #include <cmath>
 #include <memory>
@@ -86,9 +85,9 @@ namespace {
 class Validator {
 public:
   Validator(const toml::table& doc, const Origins& origins, const std::string& source, const Schema& schema,
-            bool engine_known, std::vector<SceneIssue>& issues)
+            bool engine_known, std::span<const std::string> engine_sections, std::vector<SceneIssue>& issues)
       : doc_(doc), origins_(origins), source_(source), schema_(schema), engine_known_(engine_known),
-        issues_(issues) {}
+        engine_sections_(engine_sections), issues_(issues) {}
 
   toml::table run() {
     toml::table out;
@@ -107,8 +106,8 @@ public:
   }
 
 private:
-  static bool is_engine_section(std::string_view name) {
-    for (const auto& s : engine_section_names())
+  bool is_engine_section(std::string_view name) const {
+    for (const auto& s : engine_sections_)
       if (s == name) return true;
     return false;
   }
@@ -131,7 +130,7 @@ private:
     for (const auto& t : schema_.tables())
       if (t.path().find('.') == std::string::npos) sections.push_back(t.path());
     if (!engine_known_)
-      for (const auto& s : engine_section_names()) sections.push_back(s);
+      for (const auto& s : engine_sections_) sections.push_back(s);
     if (node.is_table() || node.is_array_of_tables()) {
       std::string msg = "unknown section [" + name + "]";
       if (auto m = closest_match(name, sections))
@@ -388,6 +387,7 @@ private:
   const std::string& source_;
   const Schema& schema_;
   bool engine_known_;
+  std::span<const std::string> engine_sections_;
   std::vector<SceneIssue>& issues_;
 };
 
@@ -409,20 +409,19 @@ private:
 }  // namespace
 
 ValidatedScene validate_scene(const toml::table& doc, const Origins& origins, const std::string& source_name,
-                              std::vector<SceneIssue>& issues) {
+                              const SchemaCatalog& catalog, std::vector<SceneIssue>& issues) {
   ValidatedScene result;
   const toml::node* engine_node = toml::at_path(doc, "run.engine").node();
-  const Schema* schema = &common_schema();
+  const Schema* schema = &catalog.common();
   if (engine_node && engine_node->is_string()) {
-    for (const auto& e : engines())
-      if (e.name == engine_node->as_string()->get()) {
-        result.engine = std::string(e.name);
-        schema = &schema_for_engine(e.name);
-      }
+    if (const Schema* s = catalog.for_engine(engine_node->as_string()->get())) {
+      result.engine = engine_node->as_string()->get();
+      schema = s;
+    }
   }
   result.schema = schema;
   const std::size_t before = issues.size();
-  Validator v(doc, origins, source_name, *schema, !result.engine.empty(), issues);
+  Validator v(doc, origins, source_name, *schema, !result.engine.empty(), catalog.engine_sections(), issues);
   result.effective = v.run();
   // Cross-key rules read typed values, so they run only on a scene whose keys are all valid.
   if (issues.size() == before && !result.engine.empty()) {

@@ -15,6 +15,7 @@
 namespace grainflow::scenes {
 
 class Schema;
+class SchemaCatalog;
 
 // Where values that did not come from the file came from: dotted path ("run.seed",
 // "system.group[1]") -> "--set run.seed=3". A path inherits the origin of its longest prefix.
@@ -29,7 +30,7 @@ struct ValidatedScene {
 // Validates `doc` (a scene file after --set overrides). `source_name` is used for issues
 // that have no position. Appends to `issues`; the result is meaningful only if none were added.
 ValidatedScene validate_scene(const toml::table& doc, const Origins& origins, const std::string& source_name,
-                              std::vector<SceneIssue>& issues);
+                              const SchemaCatalog& catalog, std::vector<SceneIssue>& issues);
 
 // The location text of the node at `path` in `doc`: "file:line:col", the --set that put
 // it there, or `source_name`.

@@ -1,12 +1,14 @@
-// `grainflow run` adapter of the 3D DEM engine (engine/dem): scene keys → dem::Config
-// (SI units), frames of spheres, stats rows of energies, contacts and wall forces, and
-// optionally pair.csv: the force–separation record of particles 1 and 2 (seed 000 §5.4).
+// `grainflow run` adapter of the 3D DEM engine (engine/dem): its keys (dem_keys.hpp) →
+// dem::Config (SI units), frames of spheres coloured by the attributes of
+// kSphereAttributes, stats rows of energies, contacts and wall forces, optionally pair.csv
+// (the force–separation record of particles 1 and 2, seed 000 §5.4), and the table row.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <optional>
 #include <span>
+#include <stdexcept>
 #include <string>
 
 #include "engine/io/atomic_file.hpp"
@@ -16,18 +18,25 @@
 #include "engine/dem/field_sampler.hpp"
 #include "engine/dem/simulation.hpp"
 #include "engine/dem/vdw_cohesion.hpp"
+#include "scenes/src/engines/dem/dem_keys.hpp"
 #include "scenes/src/engines/engine_runner.hpp"
+#include "scenes/src/engines/engine_table.hpp"
+#include "scenes/src/outputs/run_record.hpp"
 #include "scenes/src/engines/field_snapshot.hpp"
+#include "scenes/src/engines/sampling.hpp"
+#include "scenes/src/scene/run_keys.hpp"
 #include "scenes/src/scene/scene.hpp"
 
 namespace grainflow::scenes {
 namespace {
 
+namespace keys = dem_keys;
+
 // system.initial.kind = "file" (seed 000 §2.1, "read from a list"): the first frame of
 // system.initial.file gives positions, radii (0 → the group's radius) and velocities;
 // particle type t belongs to group t − 1, and each group's N must equal its type's count.
 std::vector<dem::ParticleInit> particles_from_file(const Scene& sc, const std::vector<std::size_t>& counts) {
-  const std::string name = sc.get<std::string>("system.initial.file");
+  const std::string name = sc.get(keys::initial_file);
   std::filesystem::path path(name);
   if (path.is_relative() && !sc.source().empty()) path = sc.source().parent_path() / path;
   auto reader = io::open_particle_file(path.string());
@@ -69,53 +78,52 @@ std::vector<dem::ParticleInit> particles_from_file(const Scene& sc, const std::v
 
 dem::Config dem_config(const Scene& sc) {
   dem::Config c;
-  const auto box = sc.get<std::array<double, 3>>("system.box");
+  const auto box = sc.get(keys::box);
   c.box.lo = Vec3::Zero();
   c.box.hi = {box[0], box[1], box[2]};
-  const auto periodic = sc.get<std::array<bool, 3>>("boundary.periodic");
+  const auto periodic = sc.get(keys::periodic);
   c.box.periodic = {periodic[0], periodic[1], periodic[2]};
-  c.box.open_top = sc.get<std::string>("boundary.top") == "open";
+  c.box.open_top = sc.get(keys::top) == "open";
   // Plane Couette: the z walls slide in their own plane (the schema allows only vx, vy).
-  const auto top_v = sc.get<std::array<double, 2>>("boundary.top_velocity");
-  const auto bottom_v = sc.get<std::array<double, 2>>("boundary.bottom_velocity");
+  const auto top_v = sc.get(keys::top_velocity);
+  const auto bottom_v = sc.get(keys::bottom_velocity);
   c.box.wall_velocity[5] = {top_v[0], top_v[1], 0.0};
   c.box.wall_velocity[4] = {bottom_v[0], bottom_v[1], 0.0};
-  const auto g = sc.get<std::array<double, 3>>("system.gravity");
+  const auto g = sc.get(keys::gravity);
   c.gravity = {g[0], g[1], g[2]};
-  if (auto dt = sc.find<double>("system.dt")) c.dt = *dt;
-  c.steps_per_collision = int(sc.get<std::int64_t>("system.steps_per_collision"));
-  c.neighbor = sc.get<std::string>("system.neighbor_search") == "all_pairs" ? dem::NeighborMethod::AllPairs
+  if (auto dt = sc.find(keys::dt)) c.dt = *dt;
+  c.steps_per_collision = int(sc.get(keys::steps_per_collision));
+  c.neighbor = sc.get(keys::neighbor_search) == "all_pairs" ? dem::NeighborMethod::AllPairs
                                                                             : dem::NeighborMethod::ChainCells;
-  if (const double skin = sc.get<double>("system.skin"); skin > 0) c.skin = skin;
+  if (const double skin = sc.get(keys::skin); skin > 0) c.skin = skin;
 
-  const bool walton = sc.get<std::string>("system.contact.model") == "walton";
+  const bool walton = sc.get(keys::contact_model) == "walton";
   c.model.normal = walton ? dem::NormalKind::Walton : dem::NormalKind::Hooke;
   c.model.tangential = walton ? dem::TangentialKind::Walton : dem::TangentialKind::History;
-  c.model.cohesion = sc.has("system.vdw") ? dem::CohesionKind::VanDerWaals : dem::CohesionKind::None;
+  c.model.cohesion = sc.has(keys::vdw) ? dem::CohesionKind::VanDerWaals : dem::CohesionKind::None;
 
   c.groups.clear();
   std::vector<std::size_t> counts;
-  for (std::size_t i = 0; i < sc.count("system.group"); ++i) {
-    const std::string key = "system.group[" + std::to_string(i) + "].";
+  for (std::size_t i = 0; i < sc.count(keys::group); ++i) {
     dem::GroupConfig gc;
-    gc.radius = sc.get<double>(key + "radius");
-    gc.density = sc.get<double>(key + "density");
+    gc.radius = sc.get(keys::group_radius, i);
+    gc.density = sc.get(keys::group_density, i);
     auto& p = gc.contact;
-    p.k1 = sc.get<double>("system.contact.kn");
-    p.kt = sc.get<double>("system.contact.kt");
-    const double e = sc.get<double>(key + "e");
-    p.e = e > 0 ? e : sc.get<double>("system.contact.e");
-    const double mu = sc.get<double>(key + "mu");
-    p.mu = mu >= 0 ? mu : sc.get<double>("system.contact.mu");
-    if (sc.has("system.vdw")) {
-      p.hamaker = sc.get<double>("system.vdw.A");
-      p.alpha_min = sc.get<double>("system.vdw.alpha_min");
-      p.alpha_cut = sc.get<double>("system.vdw.cutoff");
-      p.vdw_radius = sc.get<double>("system.vdw.asperity_radius");
-      p.r_ss = sc.get<double>("system.vdw.r_ss");
+    p.k1 = sc.get(keys::kn);
+    p.kt = sc.get(keys::kt);
+    const double e = sc.get(keys::group_e, i);
+    p.e = e > 0 ? e : sc.get(keys::e);
+    const double mu = sc.get(keys::group_mu, i);
+    p.mu = mu >= 0 ? mu : sc.get(keys::mu);
+    if (sc.has(keys::vdw)) {
+      p.hamaker = sc.get(keys::vdw_A);
+      p.alpha_min = sc.get(keys::vdw_alpha_min);
+      p.alpha_cut = sc.get(keys::vdw_cutoff);
+      p.vdw_radius = sc.get(keys::vdw_asperity_radius);
+      p.r_ss = sc.get(keys::vdw_r_ss);
     }
     c.groups.push_back(gc);
-    counts.push_back(std::size_t(sc.get<std::int64_t>(key + "N")));
+    counts.push_back(std::size_t(sc.get(keys::group_N, i)));
   }
 
   // Initial positions (seed 000 §2.1): group 0's particles first, then group 1's.
@@ -123,7 +131,7 @@ dem::Config dem_config(const Scene& sc) {
   for (auto n : counts) total += n;
   double rmax = 0;
   for (const auto& gc : c.groups) rmax = std::max(rmax, gc.radius);
-  const std::string kind = sc.get<std::string>("system.initial.kind");
+  const std::string kind = sc.get(keys::initial_kind);
   std::vector<Vec3> sites;
   if (kind == "lattice") {
     // Simple cubic, spread through the whole box (spacing cbrt(V/N), at least 2.04 r_max)
@@ -143,11 +151,11 @@ dem::Config dem_config(const Scene& sc) {
     sites.resize(total);
   } else if (kind == "random") {
     // Placed at half size, then grown to the final radii over grow_steps (FINDRAD, §2.1).
-    const auto grow = sc.get<std::int64_t>("system.initial.grow_steps");
+    const auto grow = sc.get(keys::grow_steps);
     c.growth_start = grow > 0 ? 0.5 : 1.0;
     c.growth_steps = std::uint64_t(grow);
     sites = dem::random_positions(c.box.lo, c.box.hi, rmax * c.growth_start, total,
-                                  std::uint64_t(sc.get<std::int64_t>("run.seed")));
+                                  std::uint64_t(sc.get(run_keys::seed)));
   } else {
     c.particles = particles_from_file(sc, counts);
     return c;
@@ -163,16 +171,15 @@ dem::Config dem_config(const Scene& sc) {
   return c;
 }
 
-// Fields are averaged over each exposure from kSamplesPerExposure snapshots of the state,
-// on the plane sample.plane (averaged across the box normal to it).
-constexpr int kSamplesPerExposure = 20;
+// Fields are averaged over each exposure from sample_keys::kSamplesPerExposure snapshots of
+// the state, on the plane sample.plane (averaged across the box normal to it).
 
 core::BinningOptions binning_options(const Scene& sc, const dem::Config& cfg) {
   core::BinningOptions opt;
-  const std::string plane = sc.get<std::string>("sample.plane");
+  const std::string plane = sc.get(keys::plane);
   opt.plane = plane == "xy" ? core::BinPlane::xy : plane == "yz" ? core::BinPlane::yz : core::BinPlane::xz;
   const int u = plane == "yz" ? 1 : 0, v = plane == "xy" ? 1 : 2;
-  const auto bins = sc.get<std::array<int, 2>>("sample.bins");
+  const auto bins = sc.get(sample_keys::bins);
   opt.grid.nx = bins[0];
   opt.grid.ny = bins[1];
   opt.grid.lo = Vec2(cfg.box.lo[u], cfg.box.lo[v]);
@@ -187,22 +194,22 @@ core::BinningOptions binning_options(const Scene& sc, const dem::Config& cfg) {
 // when nothing else touches it), vdw_force = the attraction of Eq. 5.29 at α (0 without
 // [system.vdw]), contact_force = normal_force + vdw_force (the spring alone, Fig. 5.11);
 // v_rel_n = (v₂ − v₁)·n (positive = separating). Written through AtomicFile.
-class PairProbe {
+class PairProbe final : public RunOutput {
 public:
   PairProbe(const std::filesystem::path& file, const Scene& sc) : file_(file) {
     out_ = std::fopen(file_.path().c_str(), "w");
     if (!out_) throw Error("cannot write " + file_.path().string());
     std::fputs("step,time,separation,normal_force,vdw_force,contact_force,v_rel_n\n", out_);
-    if (sc.has("system.vdw")) {
+    if (sc.has(keys::vdw)) {
       vdw_.emplace();
-      vdw_->hamaker = sc.get<double>("system.vdw.A");
-      vdw_->asperity = sc.get<double>("system.vdw.asperity_radius");
-      vdw_->rss6 = std::pow(sc.get<double>("system.vdw.r_ss"), 6);
-      vdw_->alpha_min = sc.get<double>("system.vdw.alpha_min");
-      vdw_->alpha_cut = sc.get<double>("system.vdw.cutoff");
+      vdw_->hamaker = sc.get(keys::vdw_A);
+      vdw_->asperity = sc.get(keys::vdw_asperity_radius);
+      vdw_->rss6 = std::pow(sc.get(keys::vdw_r_ss), 6);
+      vdw_->alpha_min = sc.get(keys::vdw_alpha_min);
+      vdw_->alpha_cut = sc.get(keys::vdw_cutoff);
     }
   }
-  ~PairProbe() {
+  ~PairProbe() override {
     if (out_) std::fclose(out_);
   }
   PairProbe(const PairProbe&) = delete;
@@ -230,7 +237,8 @@ public:
     std::fprintf(out_, "%llu,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g\n", static_cast<unsigned long long>(sim.steps()),
                  sim.time(), gap, fn, fv, fn + fv, vn);
   }
-  void finish() {
+  void finish(const RunRecord&) override {
+    if (!out_) return;
     const bool ok = std::fclose(out_) == 0;
     out_ = nullptr;
     if (!ok) throw Error("cannot write " + file_.path().string());
@@ -243,25 +251,56 @@ private:
   std::optional<dem::VdwCohesion::Params> vdw_;
 };
 
+// What render.color_by may colour a sphere by: the one list the schema offers and the
+// snapshot computes.
+struct SphereAttribute {
+  std::string_view name;
+  double (*value)(const dem::Simulation& sim, std::size_t i);
+  bool categorical = false;
+};
+constexpr SphereAttribute kSphereAttributes[] = {
+    {"uniform", nullptr},
+    {"speed", [](const dem::Simulation& sim, std::size_t i) { return sim.velocity(i).norm(); }},
+    {"vx", [](const dem::Simulation& sim, std::size_t i) { return sim.velocity(i).x(); }},
+    {"vy", [](const dem::Simulation& sim, std::size_t i) { return sim.velocity(i).y(); }},
+    {"vz", [](const dem::Simulation& sim, std::size_t i) { return sim.velocity(i).z(); }},
+    {"spin", [](const dem::Simulation& sim, std::size_t i) { return sim.angular_velocity(i).norm(); }},
+    {"group", [](const dem::Simulation& sim, std::size_t i) { return double(sim.group(i)); }, true},
+    {"height", [](const dem::Simulation& sim, std::size_t i) { return sim.position(i).z(); }},
+};
+
+std::vector<std::string> sphere_attribute_names() {
+  std::vector<std::string> names;
+  for (const auto& a : kSphereAttributes) names.emplace_back(a.name);
+  return names;
+}
+
+const SphereAttribute& sphere_attribute(std::string_view name) {
+  for (const auto& a : kSphereAttributes)
+    if (a.name == name) return a;
+  throw std::logic_error("DEM colour attribute '" + std::string(name) + "' passed validation but is not in the table");
+}
+
 class DemRunner final : public EngineRunner {
 public:
   explicit DemRunner(const Scene& sc)
       : sim_(dem_config(sc)),
         fields_(binning_options(sc, sim_.config())),
-        sample_every_(sc.get<double>("sample.exposure") / kSamplesPerExposure),
+        sample_every_(sample_keys::sample_interval(sc.get(sample_keys::exposure))),
         next_sample_(sim_.time() + sample_every_),
         scene_(sc),
-        pair_every_(std::uint64_t(sc.get<std::int64_t>("output.pair_every"))) {}
+        pair_every_(std::uint64_t(sc.get(keys::pair_every))) {}
 
-  void open_outputs(const std::filesystem::path& dir) override {
-    if (!scene_.get<bool>("output.pair_csv")) return;
+  std::vector<std::unique_ptr<RunOutput>> open_outputs(const OutputContext& context) override {
+    std::vector<std::unique_ptr<RunOutput>> out;
+    if (!scene_.get(keys::pair_csv)) return out;
     if (sim_.size() < 2)
       throw Error("output.pair_csv = true needs at least 2 particles; the scene has " + std::to_string(sim_.size()));
-    pair_.emplace(dir / "pair.csv", scene_);
+    auto probe = std::make_unique<PairProbe>(context.dir / "pair.csv", scene_);
+    pair_ = probe.get();
     pair_->record(sim_);
-  }
-  void finish_outputs() override {
-    if (pair_) pair_->finish();
+    out.push_back(std::move(probe));
+    return out;
   }
 
   double time() const override { return sim_.time(); }
@@ -293,9 +332,9 @@ public:
     s.pos_radius.resize(4 * n);
     s.attribute.clear();
     s.attribute_name = colour_by;
-    s.attribute_categorical = colour_by == "group";
-    const bool coloured = colour_by != "uniform";
-    if (coloured) s.attribute.resize(n);
+    const SphereAttribute& attribute = sphere_attribute(colour_by);
+    s.attribute_categorical = attribute.categorical;
+    if (attribute.value) s.attribute.resize(n);
     for (std::size_t i = 0; i < n; ++i) {
       const Vec3 x = sim_.position(i);
       float* p = &s.pos_radius[4 * i];
@@ -303,17 +342,7 @@ public:
       p[1] = float(x.y());
       p[2] = float(x.z());
       p[3] = float(sim_.radius(i));
-      if (!coloured) continue;
-      double v = 0;
-      if (colour_by == "speed") v = sim_.velocity(i).norm();
-      else if (colour_by == "vx") v = sim_.velocity(i).x();
-      else if (colour_by == "vy") v = sim_.velocity(i).y();
-      else if (colour_by == "vz") v = sim_.velocity(i).z();
-      else if (colour_by == "spin") v = sim_.angular_velocity(i).norm();
-      else if (colour_by == "group") v = sim_.group(i);
-      else if (colour_by == "height") v = x.z();
-      else throw Error("render.color_by = \"" + colour_by + "\" is not available for DEM spheres");
-      s.attribute[i] = float(v);
+      if (attribute.value) s.attribute[i] = float(attribute.value(sim_, i));
     }
     s.obstacles.clear();
     if (fields_.frames() > 0) {
@@ -375,11 +404,15 @@ private:
   double sample_every_, next_sample_;
   Scene scene_;
   std::uint64_t pair_every_;
-  std::optional<PairProbe> pair_;
+  PairProbe* pair_ = nullptr;  // owned by the run loop with the other outputs, when asked for
 };
 
 }  // namespace
 
-std::unique_ptr<EngineRunner> make_dem_runner(const Scene& scene) { return std::make_unique<DemRunner>(scene); }
+EngineEntry dem_engine() {
+  return {"dem", "3D soft-sphere DEM with Walton contacts (seed 000, Sweetman 2003)", &dem_keys::declare,
+          &sphere_attribute_names,
+          [](const Scene& scene) -> std::unique_ptr<EngineRunner> { return std::make_unique<DemRunner>(scene); }};
+}
 
 }  // namespace grainflow::scenes

@@ -1,91 +1,118 @@
-// `grainflow run` adapter of the 2D event-driven engine (engine/ed): scene keys → ed::Config,
-// frames of disks coloured by speed/velocity/spin, stats rows from the engine's
-// measurement window (seed 003 §4.1).
+// `grainflow run` adapter of the 2D event-driven engine (engine/ed): its keys (ed_keys.hpp)
+// → ed::Config, frames of disks coloured by the attributes of kDiskAttributes, stats rows
+// from the engine's measurement window (seed 003 §4.1), and the engine's table row.
 #include <cmath>
 #include <numbers>
+#include <stdexcept>
 #include <string>
 
 #include "engine/core/error.hpp"
+#include "engine/core/rng.hpp"
 #include "engine/core/state_digest.hpp"
 #include "engine/ed/dense_stream.hpp"
 #include "engine/ed/field_sampler.hpp"
 #include "engine/ed/low_density_stream.hpp"
 #include "engine/ed/simulation.hpp"
+#include "scenes/src/engines/ed/ed_keys.hpp"
 #include "scenes/src/engines/engine_runner.hpp"
+#include "scenes/src/engines/engine_table.hpp"
 #include "scenes/src/engines/field_snapshot.hpp"
+#include "scenes/src/engines/sampling.hpp"
+#include "scenes/src/scene/run_keys.hpp"
 #include "scenes/src/scene/scene.hpp"
 
 namespace grainflow::scenes {
 namespace {
 
+namespace keys = ed_keys;
+
 ed::Config ed_config(const Scene& sc) {
   ed::Config c;
-  const auto box = sc.get<std::array<double, 2>>("system.box");
+  const auto box = sc.get(keys::box);
   c.lx = box[0];
   c.ly = box[1];
-  if (auto eta = sc.find<double>("system.area_fraction")) {
+  if (auto eta = sc.find(keys::area_fraction)) {
     c.area_fraction = *eta;
     c.n = 0;
-  } else if (auto n = sc.find<double>("system.n")) {
+  } else if (auto n = sc.find(keys::n)) {
     c.n = int(std::lround(*n * c.lx * c.ly));
   } else {
-    c.n = int(sc.get<std::int64_t>("system.N"));
+    c.n = int(sc.get(keys::N));
   }
-  c.kT = sc.get<double>("system.kT");
-  c.stream = {sc.get<double>("system.U"), 0.0};
-  c.seed = std::uint64_t(sc.get<std::int64_t>("run.seed"));
-  const auto periodic = sc.get<std::array<bool, 2>>("boundary.periodic");
+  c.kT = sc.get(keys::kT);
+  c.stream = {sc.get(keys::U), 0.0};
+  c.seed = std::uint64_t(sc.get(run_keys::seed));
+  const auto periodic = sc.get(keys::periodic);
   c.periodic_x = periodic[0];
   c.periodic_y = periodic[1];
-  c.e = sc.get<double>("system.e");
-  c.mu = sc.get<double>("system.mu");
-  c.e_t = c.mu > 0 ? sc.get<double>("system.e_t") : 1.0;
-  c.min_cell_size = sc.get<double>("system.cell_size");
-  c.calendar = ed::calendar_from_name(sc.get<std::string>("system.calendar"));
-  // Keys the schema knows but this engine does not model yet stop the run rather than
-  // being silently ignored.
-  if (sc.get<double>("system.tau_tc") > 0)
-    throw Error("system.tau_tc = " + std::to_string(sc.get<double>("system.tau_tc")) +
-                ": the TC model is not implemented in the ED engine yet; allowed: 0");
+  c.e = sc.get(keys::e);
+  c.mu = sc.get(keys::mu);
+  const double e_t = sc.get(keys::e_t);
+  c.e_t = c.mu > 0 ? e_t : 1.0;  // tangential restitution matters only with friction
+  c.min_cell_size = sc.get(keys::cell_size);
+  c.calendar = ed::calendar_from_name(sc.get(keys::calendar));
   // Open stream boundaries close the x axis themselves (seed 003 §3.2–3.3): no x walls.
-  c.open_x = sc.get<std::string>("boundary.stream.kind") != "periodic";
+  c.open_x = sc.get(keys::stream_kind) != "periodic";
   return c;
 }
 
 // The stream's area fraction as the scene gives it (one of area_fraction, n, N).
 double stream_area_fraction(const Scene& sc, const ed::Config& c) {
-  if (auto eta = sc.find<double>("system.area_fraction")) return *eta;
+  if (auto eta = sc.find(keys::area_fraction)) return *eta;
   return double(c.n) * std::numbers::pi / 4.0 / (c.lx * c.ly);
 }
 
-// Fields are time-averaged over each exposure τ_E (seed 003 §4.1) by the engine's sampler
-// agent, sampling all disks kSamplesPerExposure times per exposure.
-constexpr int kSamplesPerExposure = 40;
+// What render.color_by may colour a disk by: the one list the schema offers and the
+// snapshot computes (seed 003 draws speed; spin needs mu > 0 to be non-zero).
+struct DiskAttribute {
+  std::string_view name;
+  double (*value)(const ed::Simulation& sim, std::size_t slot, const ed::Disk& d);
+};
+constexpr DiskAttribute kDiskAttributes[] = {
+    {"uniform", nullptr},
+    {"speed", [](const ed::Simulation&, std::size_t, const ed::Disk& d) { return std::hypot(d.vx, d.vy); }},
+    {"vx", [](const ed::Simulation&, std::size_t, const ed::Disk& d) { return d.vx; }},
+    {"vy", [](const ed::Simulation&, std::size_t, const ed::Disk& d) { return d.vy; }},
+    {"spin", [](const ed::Simulation& sim, std::size_t i, const ed::Disk&) { return sim.omega(i); }},
+    {"height", [](const ed::Simulation&, std::size_t, const ed::Disk& d) { return d.y; }},
+};
+
+std::vector<std::string> disk_attribute_names() {
+  std::vector<std::string> names;
+  for (const auto& a : kDiskAttributes) names.emplace_back(a.name);
+  return names;
+}
+
+const DiskAttribute& disk_attribute(std::string_view name) {
+  for (const auto& a : kDiskAttributes)
+    if (a.name == name) return a;
+  throw std::logic_error("ED colour attribute '" + std::string(name) + "' passed validation but is not in the table");
+}
 
 class EdRunner final : public EngineRunner {
 public:
   explicit EdRunner(const Scene& sc) : sim_(ed_config(sc)) {
     ed::SamplerConfig sc_cfg;
-    const auto bins = sc.get<std::array<int, 2>>("sample.bins");
+    const auto bins = sc.get(sample_keys::bins);
     sc_cfg.grid.nx = bins[0];
     sc_cfg.grid.ny = bins[1];
     sc_cfg.grid.lo = Vec2(0, 0);
     sc_cfg.grid.hi = Vec2(sim_.config().lx, sim_.config().ly);
-    sc_cfg.exposure = sc.get<double>("sample.exposure");
-    sc_cfg.interval = sc_cfg.exposure / kSamplesPerExposure;
+    sc_cfg.exposure = sc.get(sample_keys::exposure);
+    sc_cfg.interval = sample_keys::sample_interval(sc_cfg.exposure);
     sampler_ = &sim_.emplace_timer<ed::FieldSampler>(sc_cfg, sim_.time());
-    if (sc.has("boundary.obstacle")) {
+    if (sc.has(keys::obstacle)) {
       ed::ObstacleConfig oc;
-      oc.centre = {sc.get<double>("boundary.obstacle.x"), sc.get<double>("boundary.obstacle.y")};
-      oc.radius = sc.get<double>("boundary.obstacle.D") / 2;
-      const std::string kind = sc.get<std::string>("boundary.obstacle.kind");
+      oc.centre = {sc.get(keys::obstacle_x), sc.get(keys::obstacle_y)};
+      oc.radius = sc.get(keys::obstacle_D) / 2;
+      const std::string kind = sc.get(keys::obstacle_kind);
       oc.boundary = kind == "slip"             ? ed::ObstacleBoundary::slip
                     : kind == "noslip_thermal" ? ed::ObstacleBoundary::thermal
                                                : ed::ObstacleBoundary::flip;
-      oc.restitution = sc.get<double>("boundary.obstacle.r");
+      oc.restitution = sc.get(keys::obstacle_r);
       oc.kT = sim_.config().kT;  // boundary temperature of the thermal wall [TTKB98]
       // Its own random stream, derived from the run's seed.
-      oc.seed = sim_.config().seed * 0x9e3779b97f4a7c15ULL + 1;
+      oc.seed = core::substream_seed(sim_.config().seed, 1);
       obstacle_ = &sim_.add_obstacle(oc);
     }
     add_stream_boundaries(sc);
@@ -111,8 +138,8 @@ public:
     s.attribute.clear();
     s.attribute_categorical = false;
     s.attribute_name = colour_by;
-    const bool coloured = colour_by != "uniform";
-    if (coloured) s.attribute.resize(count);
+    const DiskAttribute& attribute = disk_attribute(colour_by);
+    if (attribute.value) s.attribute.resize(count);
     std::size_t k = 0;
     for (std::size_t i = 0; i < disks.size(); ++i) {
       if (!sim_.present(int(i))) continue;
@@ -123,16 +150,7 @@ public:
       p[1] = float(d.y);
       p[2] = 0.0f;
       p[3] = float(d.r);
-      if (!coloured) continue;
-      double v = 0;
-      if (colour_by == "speed") v = std::hypot(d.vx, d.vy);
-      else if (colour_by == "vx") v = d.vx;
-      else if (colour_by == "vy") v = d.vy;
-      else if (colour_by == "spin") v = sim_.omega(i);
-      else if (colour_by == "height") v = d.y;
-      else throw Error("render.color_by = \"" + colour_by +
-                       "\" is not available for ED disks; allowed: uniform, speed, vx, vy, spin, height");
-      s.attribute[out] = float(v);
+      if (attribute.value) s.attribute[out] = float(attribute.value(sim_, i, d));
     }
     s.obstacles.clear();
     if (obstacle_) s.obstacles.push_back({obstacle_->config().centre, obstacle_->config().radius});
@@ -199,16 +217,16 @@ public:
 private:
   // Open inlet/outlet along x (seed 003 §3.2–3.3), with the system's U, kT and density.
   void add_stream_boundaries(const Scene& sc) {
-    const std::string kind = sc.get<std::string>("boundary.stream.kind");
+    const std::string kind = sc.get(keys::stream_kind);
     const ed::Config& c = sim_.config();
-    const std::uint64_t seed = c.seed * 0x9e3779b97f4a7c15ULL + 2;  // its own random streams
+    const std::uint64_t seed = core::substream_seed(c.seed, 2);  // its own random streams
     if (kind == "dispenser_filter") {
       ed::DenseStreamConfig d;
       d.U = c.stream.x();
       d.kT = c.kT;
       d.area_fraction = stream_area_fraction(sc, c);
-      d.filter_distance = sc.get<double>("boundary.stream.filter_distance");
-      d.piston = sc.get<std::string>("boundary.stream.piston") == "thermal" ? ed::PistonKind::thermal
+      d.filter_distance = sc.get(keys::filter_distance);
+      d.piston = sc.get(keys::piston) == "thermal" ? ed::PistonKind::thermal
                                                                             : ed::PistonKind::elastic;
       d.seed = seed;
       dense_ = ed::add_dense_stream(sim_, d);
@@ -251,6 +269,9 @@ private:
 
 }  // namespace
 
-std::unique_ptr<EngineRunner> make_ed_runner(const Scene& scene) { return std::make_unique<EdRunner>(scene); }
+EngineEntry ed_engine() {
+  return {"ed", "2D event-driven hard disks (seed 003, Baryshev 2003)", &ed_keys::declare, &disk_attribute_names,
+          [](const Scene& scene) -> std::unique_ptr<EngineRunner> { return std::make_unique<EdRunner>(scene); }};
+}
 
 }  // namespace grainflow::scenes

@@ -1,0 +1,41 @@
+// The keys of the 2D event-driven hard-disk engine (seed 003 ch. 2–6), declared by
+// ed_keys.cpp and read by ed_runner.cpp through these handles. Units: disk diameter
+// σ = 1, mass m = 1, energies in kT units.
+#pragma once
+#include <array>
+#include <cstdint>
+#include <string>
+
+#include "scenes/src/scene/schema.hpp"
+
+namespace grainflow::scenes::ed_keys {
+
+inline constexpr Key<std::array<double, 2>> box{"system.box"};
+inline constexpr Key<double> area_fraction{"system.area_fraction"};
+inline constexpr Key<double> n{"system.n"};
+inline constexpr Key<std::int64_t> N{"system.N"};
+inline constexpr Key<double> kT{"system.kT"};
+inline constexpr Key<double> U{"system.U"};
+inline constexpr Key<double> e{"system.e"};
+inline constexpr Key<double> e_t{"system.e_t"};
+inline constexpr Key<double> mu{"system.mu"};
+inline constexpr Key<std::string> calendar{"system.calendar"};
+inline constexpr Key<double> cell_size{"system.cell_size"};
+
+inline constexpr Key<std::array<bool, 2>> periodic{"boundary.periodic"};
+
+inline constexpr TableKey obstacle{"boundary.obstacle"};
+inline constexpr Key<double> obstacle_D{"boundary.obstacle.D"};
+inline constexpr Key<double> obstacle_x{"boundary.obstacle.x"};
+inline constexpr Key<double> obstacle_y{"boundary.obstacle.y"};
+inline constexpr Key<std::string> obstacle_kind{"boundary.obstacle.kind"};
+inline constexpr Key<double> obstacle_r{"boundary.obstacle.r"};
+
+inline constexpr Key<std::string> stream_kind{"boundary.stream.kind"};
+inline constexpr Key<double> filter_distance{"boundary.stream.filter_distance"};
+inline constexpr Key<std::string> piston{"boundary.stream.piston"};
+
+// Declares [system], [boundary], [boundary.obstacle], [boundary.stream] and their checks.
+void declare(Schema& s);
+
+}  // namespace grainflow::scenes::ed_keys

@@ -1,0 +1,49 @@
+// The picture outputs: DIR/frames/frame_NNNNNN.png and DIR/<scene>.mp4 (H.264), fed with
+// the rendered frames through render's sinks (each on its own encoding thread).
+#include <string>
+
+#include "render/output/mp4_sink.hpp"
+#include "render/output/png_sequence_sink.hpp"
+#include "scenes/src/outputs/output_table.hpp"
+#include "scenes/src/scene/scene.hpp"
+
+namespace grainflow::scenes {
+namespace {
+
+constexpr Key<bool> png{"output.png"};
+constexpr Key<bool> mp4{"output.mp4"};
+constexpr Key<std::int64_t> fps{"output.fps"};
+constexpr Key<std::int64_t> crf{"output.crf"};
+constexpr Key<std::string> preset{"output.preset"};
+
+void declare_png(Schema& s) { s.table("output").add_bool(png, true, "write frames/frame_NNNNNN.png"); }
+
+std::unique_ptr<render::FrameSink> open_png(const OutputContext& c) {
+  if (!c.scene.get(png)) return nullptr;
+  return std::make_unique<render::PngSequenceSink>(c.dir / "frames");
+}
+
+void declare_mp4(Schema& s) {
+  auto& out = s.table("output");
+  out.add_bool(mp4, true, "write an H.264 MP4 of the frames");
+  out.add_int(fps, 30, "MP4 frame rate", "frames/s").at_least(1).at_most(240);
+  out.add_int(crf, 20, "H.264 constant rate factor (lower = better quality, larger file)").at_least(0).at_most(51);
+  out.add_enum(preset, {"ultrafast", "superfast", "veryfast", "faster", "fast", "medium", "slow", "slower", "veryslow"},
+               "medium", "H.264 encoder speed/size preset");
+}
+
+std::unique_ptr<render::FrameSink> open_mp4(const OutputContext& c) {
+  if (!c.scene.get(mp4)) return nullptr;
+  render::Mp4Options opt;
+  opt.fps = int(c.scene.get(fps));
+  opt.crf = int(c.scene.get(crf));
+  opt.preset = c.scene.get(preset);
+  return std::make_unique<render::Mp4Sink>(c.dir / (c.name + ".mp4"), opt);
+}
+
+}  // namespace
+
+OutputEntry png_output() { return {"png", "frames/frame_NNNNNN.png, one per frame", &declare_png, &open_png, nullptr}; }
+OutputEntry mp4_output() { return {"mp4", "<scene>.mp4, H.264 of the frames", &declare_mp4, &open_mp4, nullptr}; }
+
+}  // namespace grainflow::scenes

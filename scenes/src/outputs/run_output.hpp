@@ -1,0 +1,42 @@
+// The extension point for what a run writes into its folder (besides the pictures, which
+// go through render's FrameSinks): an output receives each frame's Snapshot, each stats
+// row and the run's record at its start and end. Outputs know no engine: they see only
+// Snapshots, rows and records. Registered in the one output table (output_table.cpp).
+#pragma once
+#include <cstdint>
+#include <filesystem>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "render/snapshot.hpp"
+
+namespace grainflow::scenes {
+
+class Scene;
+struct RunRecord;
+
+// What an output is opened with.
+struct OutputContext {
+  const Scene& scene;
+  std::filesystem::path dir;                // the run folder
+  std::string name;                         // the scene file's stem: DIR/<name>.mp4
+  std::vector<std::string> stats_columns;   // after `time`, as the engine names them
+};
+
+class RunOutput {
+public:
+  virtual ~RunOutput() = default;
+  // Before the first step (run.json: status "running").
+  virtual void start(const RunRecord& /*record*/) {}
+  // Every frame, in time order: particles and fields as drawn.
+  virtual void frame(std::int64_t /*index*/, const render::Snapshot& /*snapshot*/) {}
+  // Every stats row, in time order.
+  virtual void stats(double /*time*/, std::span<const double> /*row*/) {}
+  // The run ended, complete or interrupted: every file is put in place under its name.
+  virtual void finish(const RunRecord& record) = 0;
+  // The run failed: nothing finished-looking is left behind (run.json says "failed").
+  virtual void fail(const RunRecord& /*record*/) {}
+};
+
+}  // namespace grainflow::scenes

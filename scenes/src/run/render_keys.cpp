@@ -1,0 +1,70 @@
+// The [render] keys (render_keys.hpp): what each frame shows and how it is drawn.
+#include "scenes/src/run/render_keys.hpp"
+
+#include <cctype>
+#include <cstdint>
+
+#include "render/layers/colormap.hpp"
+#include "render/panel_layout.hpp"
+#include "scenes/src/scene/scene.hpp"
+#include "scenes/src/scene/toml_text.hpp"
+
+namespace grainflow::scenes::render_keys {
+
+namespace {
+
+bool is_hex_colour(const std::string& s) {
+  if (s.size() != 7 && s.size() != 9) return false;
+  if (s[0] != '#') return false;
+  for (std::size_t i = 1; i < s.size(); ++i)
+    if (!std::isxdigit(static_cast<unsigned char>(s[i]))) return false;
+  return true;
+}
+
+}  // namespace
+
+void declare(Schema& s, std::vector<std::string> colour_attributes) {
+  auto& table = s.section("render", "what each frame shows and how it is drawn");
+  table.add_int_array(size, {1280, 720}, {"w", "h"}, "frame size", "pixels")
+      .at_least(16)
+      .at_most(8192)
+      .with_note("odd sizes are padded to even for the H.264 MP4");
+  table.add_int_array(layout, {1, 1}, {"cols", "rows"}, "panel grid of each frame").at_least(1).at_most(8);
+  table
+      .add_string_array(panels, {render::panel_names().begin(), render::panel_names().end()}, {"particles"},
+                        "panels, filled row by row into the layout")
+      .length(1, 64);
+  table.add_enum(colormap, {render::Colormap::names().begin(), render::Colormap::names().end()}, "viridis",
+                  "colour map of scalar fields and of particles coloured by an attribute");
+  table.add_enum(color_by, std::move(colour_attributes), "speed",
+                  "particle attribute mapped to colour in the particles panel");
+  table.add_float_array(range, {0.0, 1.0}, {"lo", "hi"},
+                         "colour range of render.color_by (same unit as the attribute); when absent it is "
+                         "taken from the first frame and kept for the whole run")
+      .optional();
+  table.add_enum(backend, {"auto", "egl", "osmesa"}, "auto",
+                  "off-screen GL: EGL (surfaceless/device), OSMesa, or auto = EGL then OSMesa");
+  table.add_int(msaa, 4, "multisample anti-aliasing samples per pixel (0 = off)").at_least(0).at_most(16);
+  table.add_string(background, "#ffffff", "background colour, \"#rrggbb\" or \"#rrggbbaa\"");
+  s.add_check([](const Scene& sc, SceneCheck& c) {
+    const auto grid = sc.get(layout);
+    const auto names = sc.get(panels);
+    if (names.size() > std::size_t(grid[0]) * std::size_t(grid[1]))
+      c.fail(panels.path, std::to_string(names.size()) + " panels do not fit render.layout = [" +
+                                  std::to_string(grid[0]) + ", " + std::to_string(grid[1]) +
+                                  "]; allowed: at most cols × rows = " + std::to_string(grid[0] * grid[1]) +
+                                  " panels");
+    if (auto r = sc.find(range); r && !((*r)[0] < (*r)[1]))
+      c.fail(range.path, "render.range = [" + toml_float((*r)[0]) + ", " + toml_float((*r)[1]) +
+                                 "] is empty; allowed: [lo, hi] with lo < hi");
+    const int samples = sc.get(msaa);
+    if (samples != 0 && (samples & (samples - 1)) != 0)
+      c.fail(msaa.path, "render.msaa = " + std::to_string(samples) + " is not allowed; allowed: 0, 1, 2, 4, 8, 16");
+    const auto bg = sc.get(background);
+    if (!is_hex_colour(bg))
+      c.fail(background.path,
+             "render.background = \"" + bg + "\" is not a colour; allowed: \"#rrggbb\" or \"#rrggbbaa\" (hex digits)");
+  });
+}
+
+}  // namespace grainflow::scenes::render_keys

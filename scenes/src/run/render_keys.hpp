@@ -1,0 +1,27 @@
+// The [render] keys the run loop consumes: frame size, panel layout, colour map, colour
+// attribute, colour range, GL backend, anti-aliasing, background. Allowed names come from
+// the tables that honour them: render::panel_names(), render::Colormap::names() and the
+// engine's colour attributes (engine_table.hpp).
+#pragma once
+#include <array>
+#include <string>
+#include <vector>
+
+#include "scenes/src/scene/schema.hpp"
+
+namespace grainflow::scenes::render_keys {
+
+inline constexpr Key<std::array<int, 2>> size{"render.size"};
+inline constexpr Key<std::array<int, 2>> layout{"render.layout"};
+inline constexpr Key<std::vector<std::string>> panels{"render.panels"};
+inline constexpr Key<std::string> colormap{"render.colormap"};
+inline constexpr Key<std::string> color_by{"render.color_by"};
+inline constexpr Key<std::array<double, 2>> range{"render.range"};
+inline constexpr Key<std::string> backend{"render.backend"};
+inline constexpr Key<int> msaa{"render.msaa"};
+inline constexpr Key<std::string> background{"render.background"};
+
+// Declares [render]; `colour_attributes` are the values render.color_by may take.
+void declare(Schema& s, std::vector<std::string> colour_attributes);
+
+}  // namespace grainflow::scenes::render_keys

@@ -1,0 +1,24 @@
+// The run loop of `grainflow run`: set everything up that can fail on configuration
+// (engine, GL context, outputs) before the first step, then advance the engine in short
+// slices, drawing a frame every exposure τ_E and a stats row every stats interval, until
+// run.until / run.steps or Ctrl-C; every output is finished (or failed) at the end.
+#pragma once
+#include <filesystem>
+#include <string>
+
+namespace grainflow::scenes {
+
+class Scene;
+
+struct RunOptions {
+  std::filesystem::path dir;  // the run folder
+  bool force = false;         // replace a previous run's results in `dir`
+  std::string name;           // the MP4's name: DIR/<name>.mp4 (the scene file's stem)
+  bool quiet = false;         // no summary line on stdout
+};
+
+// Runs a validated scene. Returns the process status: 0 complete, 130 interrupted; throws
+// grainflow::Error when the run fails (run.json then says "failed").
+int run_scene(const Scene& scene, const RunOptions& options);
+
+}  // namespace grainflow::scenes
