@@ -5,13 +5,7 @@
 #include <cstring>
 #include <vector>
 
-#include "engine/core/error.hpp"
-#include "engine/dem/history_tangential.hpp"
-#include "engine/dem/hooke_normal.hpp"
 #include "engine/dem/simd_clones.hpp"
-#include "engine/dem/vdw_cohesion.hpp"
-#include "engine/dem/walton_normal.hpp"
-#include "engine/dem/walton_tangential.hpp"
 
 namespace grainflow::dem {
 
@@ -399,37 +393,21 @@ private:
   bool uniform_wall_ = false;  // both groups have the same wall parameters
 };
 
-template <class N, class T>
-std::unique_ptr<ContactLaw> with_cohesion(CohesionKind c, const std::array<ContactParams, 9>& per,
-                                          const std::array<double, 9>& meff) {
-  switch (c) {
-    case CohesionKind::None: return std::make_unique<ComposedLaw<N, T, NoCohesion>>(per, meff);
-    case CohesionKind::VanDerWaals: return std::make_unique<ComposedLaw<N, T, VdwCohesion>>(per, meff);
-  }
-  throw Error("dem: unknown cohesion model");
-}
-
-template <class N>
-std::unique_ptr<ContactLaw> with_tangential(TangentialKind t, CohesionKind c, const std::array<ContactParams, 9>& per,
-                                            const std::array<double, 9>& meff) {
-  switch (t) {
-    case TangentialKind::Walton: return with_cohesion<N, WaltonTangential>(c, per, meff);
-    case TangentialKind::History: return with_cohesion<N, HistoryTangential>(c, per, meff);
-    case TangentialKind::None: return with_cohesion<N, NoTangential>(c, per, meff);
-  }
-  throw Error("dem: unknown tangential model");
-}
-
 }  // namespace
 
-// Registration table: adding a sub-model = one header + one case here.
+// The chosen row of each table becomes a template argument: every composition is compiled
+// (the contact loop inlines its sub-models), and the spec picks one at run time.
 std::unique_ptr<ContactLaw> make_contact_law(const ContactModelSpec& spec, const std::array<ContactParams, 9>& per,
                                              const std::array<double, 9>& meff) {
-  switch (spec.normal) {
-    case NormalKind::Walton: return with_tangential<WaltonNormal>(spec.tangential, spec.cohesion, per, meff);
-    case NormalKind::Hooke: return with_tangential<HookeNormal>(spec.tangential, spec.cohesion, per, meff);
-  }
-  throw Error("dem: unknown normal model");
+  require_composable(spec);
+  return visit_model(spec.normal, [&]<class N>(std::type_identity<N>) {
+    return visit_model(spec.tangential, [&]<class T>(std::type_identity<T>) {
+      return visit_model(spec.cohesion, [&]<class C>(std::type_identity<C>) -> std::unique_ptr<ContactLaw> {
+        if constexpr (kComposable<N, T, C>) return std::make_unique<ComposedLaw<N, T, C>>(per, meff);
+        else return nullptr;  // refused by require_composable above; never compiled as a law
+      });
+    });
+  });
 }
 
 }  // namespace grainflow::dem

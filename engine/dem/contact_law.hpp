@@ -1,6 +1,7 @@
-// The contact law of a DEM run, composed at run time from a normal, a tangential and a
-// cohesion sub-model (like LAMMPS GRANULAR's gran_sub_mod_*), each declaring its share of
-// the per-contact history. The one registration place is make_contact_law().
+// The contact law of a DEM run (seed 000 §2.4, ch. 5), composed at run time from a normal,
+// a tangential and a cohesion sub-model (like LAMMPS GRANULAR's gran_sub_mod_*), each
+// declaring its share of the per-contact history; the rows to choose from are the tables
+// of contact_models.hpp.
 #pragma once
 #include <array>
 #include <cstddef>

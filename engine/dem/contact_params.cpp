@@ -1,86 +1,129 @@
 #include "engine/dem/contact_params.hpp"
 
-#include <cmath>
-#include <numbers>
+#include <array>
+#include <cstdio>
 
 #include "engine/core/error.hpp"
 
 namespace grainflow::dem {
 
 namespace {
+
+// Each row provides the interface of its family (sub_model.hpp).
+static_assert([]<class... M>(TypeList<M...>) { return (NormalModel<M> && ...); }(NormalModels{}));
+static_assert([]<class... M>(TypeList<M...>) { return (TangentialModel<M> && ...); }(TangentialModels{}));
+static_assert([]<class... M>(TypeList<M...>) { return (CohesionModel<M> && ...); }(CohesionModels{}));
+static_assert(std::is_trivially_copyable_v<ContactParams> && std::is_trivially_copyable_v<ContactModelSpec>,
+              "checkpoints store both as bytes");
+
+template <class... M>
+constexpr std::array<SubModelInfo, sizeof...(M)> infos(TypeList<M...>) {
+  return {SubModelInfo{M::kName, M::kDescription}...};
+}
+template <class Kind>
+constexpr auto kInfos = infos(typename Kind::Models{});
+
+// A name picks one row: names within a family are distinct.
+template <class Kind>
+constexpr bool distinct_names() {
+  const auto& t = kInfos<Kind>;
+  for (std::size_t a = 0; a < t.size(); ++a)
+    for (std::size_t b = a + 1; b < t.size(); ++b)
+      if (t[a].name == t[b].name) return false;
+  return true;
+}
+static_assert(distinct_names<NormalKind>() && distinct_names<TangentialKind>() && distinct_names<CohesionKind>(),
+              "two rows of one table share a name");
+
 std::string num(double v) {
   char b[64];
   std::snprintf(b, sizeof b, "%.9g", v);
   return b;
 }
-void require(bool ok, const std::string& where, const char* key, double value, const char* allowed) {
-  if (!ok) throw Error("dem: " + where + "." + key + " = " + num(value) + " is not allowed; " + allowed);
+
+template <class Kind>
+std::string allowed_names() {
+  std::string s;
+  for (const SubModelInfo& m : kInfos<Kind>) s += (s.empty() ? "" : ", ") + std::string(m.name);
+  return s;
 }
+
+template <class A, class B>
+void require_combinable(std::string_view fa, std::string_view fb) {
+  if constexpr (!combinable<A, B>())
+    throw Error("dem: the " + std::string(fa) + " \"" + std::string(A::kName) + "\" cannot be combined with the " +
+                std::string(fb) + " \"" + std::string(B::kName) + "\"");
+}
+
 }  // namespace
 
-NormalKind normal_kind_from_name(const std::string& s) {
-  if (s == "walton") return NormalKind::Walton;
-  if (s == "hooke") return NormalKind::Hooke;
-  throw Error("dem: normal contact model \"" + s + "\" is unknown; allowed: walton, hooke");
+void CoeffCheck::require(bool ok, const char* key, double value, const char* allowed) const {
+  if (!ok) throw Error("dem: " + where + "." + key + " = " + num(value) + " is not allowed; " + allowed);
 }
-TangentialKind tangential_kind_from_name(const std::string& s) {
-  if (s == "walton") return TangentialKind::Walton;
-  if (s == "history") return TangentialKind::History;
-  if (s == "none") return TangentialKind::None;
-  throw Error("dem: tangential contact model \"" + s + "\" is unknown; allowed: walton, history, none");
+
+template <class Kind>
+std::span<const SubModelInfo> sub_models() {
+  return kInfos<Kind>;
 }
-CohesionKind cohesion_kind_from_name(const std::string& s) {
-  if (s == "none") return CohesionKind::None;
-  if (s == "vdw") return CohesionKind::VanDerWaals;
-  throw Error("dem: cohesion model \"" + s + "\" is unknown; allowed: none, vdw");
+
+template <class Kind>
+std::vector<std::string> model_names() {
+  std::vector<std::string> v;
+  for (const SubModelInfo& m : kInfos<Kind>) v.emplace_back(m.name);
+  return v;
+}
+
+template <class Kind>
+Kind kind_from_name(std::string_view name) {
+  for (std::size_t r = 0; r < kInfos<Kind>.size(); ++r)
+    if (kInfos<Kind>[r].name == name) return Kind{static_cast<int>(r)};
+  throw Error("dem: " + std::string(Kind::kFamily) + " \"" + std::string(name) + "\" is unknown; allowed: " +
+              allowed_names<Kind>());
+}
+
+template <class Kind>
+void require_known(Kind k) {
+  if (k.row < 0 || static_cast<std::size_t>(k.row) >= Kind::Models::size)
+    throw Error("dem: " + std::string(Kind::kFamily) + " number " + std::to_string(k.row) +
+                " is unknown (a corrupt checkpoint?); allowed: " + allowed_names<Kind>());
+}
+
+#define GRAINFLOW_DEM_KIND_API(Kind)                                    \
+  template std::span<const SubModelInfo> sub_models<Kind>();            \
+  template std::vector<std::string> model_names<Kind>();                \
+  template Kind kind_from_name<Kind>(std::string_view);                 \
+  template void require_known<Kind>(Kind);
+GRAINFLOW_DEM_KIND_API(NormalKind)
+GRAINFLOW_DEM_KIND_API(TangentialKind)
+GRAINFLOW_DEM_KIND_API(CohesionKind)
+#undef GRAINFLOW_DEM_KIND_API
+
+void require_composable(const ContactModelSpec& spec) {
+  visit_model(spec.normal, [&]<class N>(std::type_identity<N>) {
+    visit_model(spec.tangential, [&]<class T>(std::type_identity<T>) {
+      visit_model(spec.cohesion, [&]<class C>(std::type_identity<C>) {
+        require_combinable<N, T>(NormalKind::kFamily, TangentialKind::kFamily);
+        require_combinable<N, C>(NormalKind::kFamily, CohesionKind::kFamily);
+        require_combinable<T, C>(TangentialKind::kFamily, CohesionKind::kFamily);
+      });
+    });
+  });
 }
 
 void validate(const ContactParams& p, const ContactModelSpec& spec, const std::string& where) {
-  require(std::isfinite(p.k1) && p.k1 > 0.0, where, "k1", p.k1, "the normal stiffness must be > 0 N/m");
-  if (spec.normal == NormalKind::Walton || p.gamma_n < 0.0)
-    require(p.e > 0.0 && p.e <= 1.0, where, "e", p.e, "the restitution coefficient must be in (0, 1]");
-  if (spec.normal == NormalKind::Hooke)
-    require(std::isfinite(p.gamma_n) && (p.gamma_n >= 0.0 || p.gamma_n == -1.0), where, "gamma_n", p.gamma_n,
-            "γn must be ≥ 0 1/s (or −1 to derive it from e)");
-  if (spec.tangential != TangentialKind::None) {
-    require(std::isfinite(p.kt) && p.kt > 0.0, where, "kt", p.kt, "the tangential stiffness must be > 0 N/m");
-    require(std::isfinite(p.mu) && p.mu >= 0.0, where, "mu", p.mu, "the friction coefficient must be ≥ 0");
-  }
-  if (spec.tangential == TangentialKind::Walton)
-    require(p.walton_gamma > 0.0 && p.walton_gamma <= 10.0, where, "walton_gamma", p.walton_gamma,
-            "the exponent γ of Eq. 2.10 must be in (0, 10]");
-  if (spec.cohesion == CohesionKind::VanDerWaals) {
-    require(p.hamaker > 0.0, where, "hamaker", p.hamaker, "the Hamaker constant must be > 0 J");
-    require(p.alpha_min > 0.0, where, "alpha_min", p.alpha_min, "the minimum separation must be > 0 m");
-    require(p.alpha_cut > p.alpha_min, where, "alpha_cut", p.alpha_cut, "the cutoff must exceed alpha_min");
-    require(p.r_ss >= 0.0, where, "r_ss", p.r_ss, "r_ss must be ≥ 0 m");
-    require(p.vdw_radius >= 0.0, where, "vdw_radius", p.vdw_radius, "the asperity radius must be ≥ 0 m (0 = particle radius)");
-  }
+  require_composable(spec);
+  const CoeffCheck check{where};
+  visit_model(spec.normal, [&]<class M>(std::type_identity<M>) { M::validate(p, check); });
+  visit_model(spec.tangential, [&]<class M>(std::type_identity<M>) { M::validate(p, check); });
+  visit_model(spec.cohesion, [&]<class M>(std::type_identity<M>) { M::validate(p, check); });
 }
 
 ContactParams mix(const ContactParams& a, const ContactParams& b) {
-  auto m = [](double x, double y) { return 0.5 * (x + y); };
-  ContactParams c = a;
-  c.k1 = m(a.k1, b.k1);
-  c.e = m(a.e, b.e);
-  c.gamma_n = (a.gamma_n < 0.0 || b.gamma_n < 0.0) ? -1.0 : m(a.gamma_n, b.gamma_n);
-  c.kt = m(a.kt, b.kt);
-  c.mu = m(a.mu, b.mu);
-  c.walton_gamma = m(a.walton_gamma, b.walton_gamma);
-  c.gamma_t = (a.gamma_t < 0.0 || b.gamma_t < 0.0) ? -1.0 : m(a.gamma_t, b.gamma_t);
-  c.damp_flag = a.damp_flag && b.damp_flag;
-  c.hamaker = m(a.hamaker, b.hamaker);
-  c.vdw_radius = m(a.vdw_radius, b.vdw_radius);
-  c.r_ss = m(a.r_ss, b.r_ss);
-  c.alpha_min = m(a.alpha_min, b.alpha_min);
-  c.alpha_cut = m(a.alpha_cut, b.alpha_cut);
+  ContactParams c;
+  [&]<class... B>(TypeList<B...>) {
+    ((static_cast<B&>(c) = B::mix(a, b)), ...);
+  }(ContactCoeffs{});
   return c;
-}
-
-double hooke_gamma_from_restitution(double kn, double e, double m_eff) {
-  const double le = std::log(e);
-  const double w0 = std::sqrt(kn / m_eff);
-  return -2.0 * le * w0 / std::sqrt(std::numbers::pi * std::numbers::pi + le * le);
 }
 
 }  // namespace grainflow::dem

@@ -4,20 +4,39 @@
 // and the stored displacement are rescaled (LAMMPS's rule, damping term included).
 #pragma once
 #include <cmath>
+#include <string_view>
 
 #include "engine/dem/contact_kinematics.hpp"
-#include "engine/dem/contact_params.hpp"
+#include "engine/dem/hooke_normal.hpp"
+#include "engine/dem/sub_model.hpp"
 
 namespace grainflow::dem {
 
 struct HistoryTangential {
+  static constexpr std::string_view kName = "history";
+  static constexpr std::string_view kDescription =
+      "Cundall-Strack spring with shear history as LAMMPS gran/hooke/history (kt, γt, μ)";
+  // γt [1/s] (force −m_eff·γt·v_t); < 0: γn/2 (LAMMPS's NULL). damp_flag is LAMMPS's
+  // dampflag: false sets γt = 0.
+  struct Coeffs {
+    double gamma_t = -1.0;
+    bool damp_flag = true;
+    static Coeffs mix(const Coeffs& a, const Coeffs& b) {
+      return {mix_rate(a.gamma_t, b.gamma_t), a.damp_flag && b.damp_flag};
+    }
+  };
+  // The default γt is half of Hooke's γn, given or derived from e (LAMMPS's rule).
+  using Reads = TypeList<FrictionCoeffs, Coeffs, SpringCoeffs, HookeNormal::Coeffs>;
+  static void validate(const auto& p, const CoeffCheck& c) { FrictionCoeffs::check(p, c); }
+  static double stiffness(const auto& p) { return p.kt; }
+
   static constexpr bool kNeedsMass = true;
   static constexpr int kHistory = 3;  // shear displacement vector [m]
   struct Params {
     double kt = 0, gamma_t = 0, mu = 0;
     bool operator==(const Params&) const = default;
   };
-  static Params make(const ContactParams& p, double m_eff_pair) {
+  static Params make(const auto& p, double m_eff_pair) {
     Params q;
     q.kt = p.kt;
     q.mu = p.mu;
@@ -26,8 +45,7 @@ struct HistoryTangential {
     } else if (p.gamma_t >= 0.0) {
       q.gamma_t = p.gamma_t;
     } else {
-      const double gn = p.gamma_n >= 0.0 ? p.gamma_n : hooke_gamma_from_restitution(p.k1, p.e, m_eff_pair);
-      q.gamma_t = 0.5 * gn;
+      q.gamma_t = 0.5 * HookeNormal::damping(p, m_eff_pair);
     }
     return q;
   }
@@ -73,12 +91,18 @@ struct HistoryTangential {
 
 // Frictionless contacts: no tangential force, no history.
 struct NoTangential {
+  static constexpr std::string_view kName = "none";
+  static constexpr std::string_view kDescription = "frictionless: no tangential force";
+  using Reads = TypeList<>;
+  static void validate(const auto& /*p*/, const CoeffCheck& /*c*/) {}
+  static double stiffness(const auto& /*p*/) { return 0.0; }  // no spring, no limit
+
   static constexpr bool kNeedsMass = false;
   static constexpr int kHistory = 0;
   struct Params {
     bool operator==(const Params&) const = default;
   };
-  static Params make(const ContactParams&, double) { return {}; }
+  static Params make(const auto& /*p*/, double /*m_eff_pair*/) { return {}; }
   static void force(const Params&, const ContactKinematics&, double, double*, bool, double ft[3]) {
     ft[0] = ft[1] = ft[2] = 0.0;
   }

@@ -187,25 +187,15 @@ void Simulation::configure() {
   }
   law_ = make_contact_law(c.model, per, meff);
 
-  // ---- time step (Eq. 2.23) and stability limit
+  // ---- time step (Eq. 2.23) and stability limit, as the chosen sub-models give them
   double tc_min = 1e300, lim = 1e300;
   for (int a = 0; a < ng; ++a)
     for (int b = 0; b <= ng; ++b) {
-      const int tb = b == ng ? kWallType : b;
-      const ContactParams& q = per[type_pair(a, tb)];
-      const double mu = tb == kWallType ? mg[a] : mg[a] * mg[b] / (mg[a] + mg[b]);
-      double tc, kmax;
-      if (c.model.normal == NormalKind::Walton) {
-        tc = walton_collision_time(mu, q.k1, q.e);
-        kmax = q.k1 / (q.e * q.e);
-      } else {
-        const double gn = q.gamma_n >= 0.0 ? q.gamma_n : hooke_gamma_from_restitution(q.k1, q.e, meff[type_pair(a, tb)]);
-        tc = hooke_collision_time(mu, q.k1, gn);
-        kmax = q.k1;
-      }
+      const int tp = type_pair(a, b == ng ? kWallType : b);
+      const double mu = b == ng ? mg[a] : mg[a] * mg[b] / (mg[a] + mg[b]);
+      const double tc = collision_time(c.model, per[tp], mu, meff[tp]);
       if (tc > 0.0) tc_min = std::min(tc_min, tc);
-      lim = std::min(lim, leapfrog_stability_limit(mu, kmax));
-      if (c.model.tangential != TangentialKind::None) lim = std::min(lim, leapfrog_stability_limit(2.0 / 7.0 * mu, q.kt));
+      lim = std::min(lim, stability_limit(c.model, per[tp], mu));
     }
   dt_limit_ = lim;
   if (c.dt > 0.0) {

@@ -1,19 +1,22 @@
 #include "engine/dem/time_step.hpp"
 
+#include <algorithm>
 #include <cmath>
-#include <numbers>
 
 namespace grainflow::dem {
 
-double walton_collision_time(double mu_red, double k1, double e) { return std::numbers::pi * e * std::sqrt(mu_red / k1); }
+double leapfrog_stability_limit(double mu_red, double k) { return 2.0 * std::sqrt(mu_red / k); }
 
-double walton_time_step(double m, double k1, double e, int n) { return walton_collision_time(0.5 * m, k1, e) / n; }
-
-double hooke_collision_time(double mu_red, double kn, double gamma_n) {
-  const double w2 = kn / mu_red - 0.25 * gamma_n * gamma_n;
-  return w2 > 0.0 ? std::numbers::pi / std::sqrt(w2) : 0.0;
+double collision_time(const ContactModelSpec& spec, const ContactParams& p, double mu_red, double m_eff_pair) {
+  return visit_model(spec.normal,
+                     [&]<class N>(std::type_identity<N>) { return N::collision_time(p, mu_red, m_eff_pair); });
 }
 
-double leapfrog_stability_limit(double mu_red, double k) { return 2.0 * std::sqrt(mu_red / k); }
+double stability_limit(const ContactModelSpec& spec, const ContactParams& p, double mu_red) {
+  const double kn = visit_model(spec.normal, [&]<class N>(std::type_identity<N>) { return N::max_stiffness(p); });
+  const double kt = visit_model(spec.tangential, [&]<class T>(std::type_identity<T>) { return T::stiffness(p); });
+  const double lim = leapfrog_stability_limit(mu_red, kn);
+  return kt > 0.0 ? std::min(lim, leapfrog_stability_limit(2.0 / 7.0 * mu_red, kt)) : lim;  // 0: no spring
+}
 
 }  // namespace grainflow::dem

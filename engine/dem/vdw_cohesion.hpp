@@ -4,20 +4,46 @@
 // R_eff = R/2 between equal spheres (AR/(12α²), Eq. 5.28) and R at a wall (AR/(6α²), 5.21).
 #pragma once
 #include <algorithm>
+#include <string_view>
 
 #include "engine/dem/contact_kinematics.hpp"
-#include "engine/dem/contact_params.hpp"
+#include "engine/dem/sub_model.hpp"
 
 namespace grainflow::dem {
 
 struct VdwCohesion {
+  static constexpr std::string_view kName = "vdw";
+  static constexpr std::string_view kDescription =
+      "van der Waals attraction of Eq. 5.29 (A, asperity radius, r_ss, α_min, α_cut)";
+  // Hamaker constant A [J], asperity radius R [m] (0: use the particle radius), r_ss [m],
+  // α_min and α_cut [m] (surface separations).
+  struct Coeffs {
+    double hamaker = 0.0;
+    double vdw_radius = 0.0;
+    double r_ss = 0.0;
+    double alpha_min = 0.0;
+    double alpha_cut = 0.0;
+    static Coeffs mix(const Coeffs& a, const Coeffs& b) {
+      return {mix_mean(a.hamaker, b.hamaker), mix_mean(a.vdw_radius, b.vdw_radius), mix_mean(a.r_ss, b.r_ss),
+              mix_mean(a.alpha_min, b.alpha_min), mix_mean(a.alpha_cut, b.alpha_cut)};
+    }
+  };
+  using Reads = TypeList<Coeffs>;
+  static void validate(const auto& p, const CoeffCheck& c) {
+    c.require(p.hamaker > 0.0, "hamaker", p.hamaker, "the Hamaker constant must be > 0 J");
+    c.require(p.alpha_min > 0.0, "alpha_min", p.alpha_min, "the minimum separation must be > 0 m");
+    c.require(p.alpha_cut > p.alpha_min, "alpha_cut", p.alpha_cut, "the cutoff must exceed alpha_min");
+    c.require(p.r_ss >= 0.0, "r_ss", p.r_ss, "r_ss must be ≥ 0 m");
+    c.require(p.vdw_radius >= 0.0, "vdw_radius", p.vdw_radius, "the asperity radius must be ≥ 0 m (0 = particle radius)");
+  }
+
   static constexpr bool kNeedsRadius = true;  // reads ContactKinematics::r_eff
   static constexpr int kHistory = 0;
   struct Params {
     double hamaker = 0, asperity = 0, rss6 = 0, alpha_min = 0, alpha_cut = 0;
     bool operator==(const Params&) const = default;
   };
-  static Params make(const ContactParams& p, double) {
+  static Params make(const auto& p, double /*m_eff_pair*/) {
     Params q;
     q.hamaker = p.hamaker;
     q.asperity = p.vdw_radius;
@@ -42,12 +68,17 @@ struct VdwCohesion {
 };
 
 struct NoCohesion {
+  static constexpr std::string_view kName = "none";
+  static constexpr std::string_view kDescription = "no cohesion";
+  using Reads = TypeList<>;
+  static void validate(const auto& /*p*/, const CoeffCheck& /*c*/) {}
+
   static constexpr bool kNeedsRadius = false;
   static constexpr int kHistory = 0;
   struct Params {
     bool operator==(const Params&) const = default;
   };
-  static Params make(const ContactParams&, double) { return {}; }
+  static Params make(const auto& /*p*/, double /*m_eff_pair*/) { return {}; }
   static double range(const Params&) { return 0.0; }
   static double force(const Params&, const ContactKinematics&) { return 0.0; }
 };

@@ -5,9 +5,10 @@
 #pragma once
 #include <algorithm>
 #include <cmath>
+#include <string_view>
 
 #include "engine/dem/contact_kinematics.hpp"
-#include "engine/dem/contact_params.hpp"
+#include "engine/dem/sub_model.hpp"
 
 namespace grainflow::dem {
 
@@ -18,13 +19,30 @@ namespace grainflow::dem {
 // reversal (T* = |T| ≈ 0): loading in the opposite direction restarts near the virgin
 // curve. This is the 3D reading of Walton's 1D rule that needs no extra axis in history.
 struct WaltonTangential {
+  static constexpr std::string_view kName = "walton";
+  static constexpr std::string_view kDescription =
+      "Walton's incrementally slipping friction (K0 = kt, μ, γ; seed 000 §2.4)";
+  // γ, the exponent of Eq. 2.10 (typically 1/3; 1 makes K_T linear in T).
+  struct Coeffs {
+    double walton_gamma = 1.0 / 3.0;
+    static Coeffs mix(const Coeffs& a, const Coeffs& b) { return {mix_mean(a.walton_gamma, b.walton_gamma)}; }
+  };
+  using Reads = TypeList<FrictionCoeffs, Coeffs>;
+  static void validate(const auto& p, const CoeffCheck& c) {
+    FrictionCoeffs::check(p, c);
+    c.require(p.walton_gamma > 0.0 && p.walton_gamma <= 10.0, "walton_gamma", p.walton_gamma,
+              "the exponent γ of Eq. 2.10 must be in (0, 10]");
+  }
+  // K_T ≤ K0 (Eq. 2.10, 2.13): K0 is the stiffest tangential spring.
+  static double stiffness(const auto& p) { return p.kt; }
+
   static constexpr bool kNeedsMass = false;  // never reads ContactKinematics::m_eff
   static constexpr int kHistory = 6;
   struct Params {
     double k0 = 0, mu = 0, gamma = 1.0 / 3.0;
     bool operator==(const Params&) const = default;
   };
-  static Params make(const ContactParams& p, double) { return {p.kt, p.mu, p.walton_gamma}; }
+  static Params make(const auto& p, double /*m_eff_pair*/) { return {p.kt, p.mu, p.walton_gamma}; }
 
   static void force(const Params& q, const ContactKinematics& k, double fn, double* h, bool update,
                     double ft[3]) {

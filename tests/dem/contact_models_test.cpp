@@ -1,16 +1,21 @@
 // Contact sub-models of the DEM engine against hand-computed values: Walton's latching
 // spring (seed 000 Eq. 2.1–2.9), Walton's tangential model (Eq. 2.10–2.14), the LAMMPS
-// gran/hooke/history law, and van der Waals cohesion (Eq. 5.28, 5.21, 5.29).
+// gran/hooke/history law, van der Waals cohesion (Eq. 5.28, 5.21, 5.29); and the tables
+// of sub-models: names, checks, mixing, composition and time scales (§2.5).
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <numbers>
+#include <string>
+#include <type_traits>
 
+#include "engine/core/error.hpp"
 #include "engine/dem/contact_law.hpp"
 #include "engine/dem/time_step.hpp"
 #include "engine/dem/vdw_cohesion.hpp"
 
 using namespace grainflow::dem;
+using grainflow::Error;
 
 namespace {
 
@@ -239,4 +244,230 @@ TEST(TimeStep, Eq223) {
   const double m = 5026.0, k1 = 1e-7, e = 0.95;
   EXPECT_DOUBLE_EQ(walton_time_step(m, k1, e, 50), std::numbers::pi * e * std::sqrt(m / (2 * k1)) / 50);
   EXPECT_DOUBLE_EQ(walton_collision_time(m / 2, k1, e), std::numbers::pi * std::sqrt(m / 2 / (k1 / (e * e))));
+}
+
+// ---- the sub-model tables (contact_models.hpp)
+
+namespace {
+
+template <class Kind>
+void expect_names_round_trip() {
+  const auto rows = sub_models<Kind>();
+  const std::vector<std::string> names = model_names<Kind>();
+  ASSERT_EQ(rows.size(), Kind::Models::size);
+  ASSERT_EQ(names.size(), rows.size());
+  for (std::size_t r = 0; r < rows.size(); ++r) {
+    EXPECT_EQ(names[r], rows[r].name);
+    EXPECT_FALSE(rows[r].description.empty()) << names[r];
+    const Kind k = kind_from_name<Kind>(names[r]);
+    EXPECT_EQ(k.row, static_cast<int>(r)) << names[r];
+    EXPECT_EQ(model_name(k), names[r]);
+  }
+}
+
+template <class Kind>
+std::string error_of_name(const std::string& name) {
+  try {
+    kind_from_name<Kind>(name);
+  } catch (const Error& e) {
+    return e.what();
+  }
+  ADD_FAILURE() << "\"" << name << "\" was accepted";
+  return {};
+}
+
+template <class Kind>
+void expect_unknown_name_lists_allowed(const std::string& bad) {
+  const std::string msg = error_of_name<Kind>(bad);
+  EXPECT_NE(msg.find(std::string(Kind::kFamily) + " \"" + bad + "\" is unknown"), std::string::npos) << msg;
+  for (const std::string& name : model_names<Kind>()) EXPECT_NE(msg.find(name), std::string::npos) << msg;
+}
+
+// Coefficients every row accepts.
+ContactParams valid_params() {
+  ContactParams p;
+  p.k1 = 100.0;
+  p.e = 0.9;
+  p.kt = 200.0 / 7.0;
+  p.mu = 0.5;
+  p.hamaker = 1e-19;
+  p.r_ss = 3e-10;
+  p.alpha_min = 4e-10;
+  p.alpha_cut = 1e-7;
+  return p;
+}
+
+// Test-only sub-model that refuses Walton's normal model.
+struct RefusesWalton {
+  static constexpr std::string_view kName = "refuses_walton";
+  template <class Other>
+  static constexpr bool kCombinesWith = !std::is_same_v<Other, WaltonNormal>;
+};
+
+}  // namespace
+
+TEST(SubModelTables, NamesRoundTripThroughFromName) {
+  expect_names_round_trip<NormalKind>();
+  expect_names_round_trip<TangentialKind>();
+  expect_names_round_trip<CohesionKind>();
+  EXPECT_EQ(normal_model_names(), model_names<NormalKind>());
+  EXPECT_EQ(tangential_model_names(), model_names<TangentialKind>());
+  EXPECT_EQ(cohesion_model_names(), model_names<CohesionKind>());
+  // Scene files use these names; checkpoints store these rows.
+  EXPECT_EQ(normal_kind_from_name("walton"), NormalKind::Walton);
+  EXPECT_EQ(normal_kind_from_name("hooke"), NormalKind::Hooke);
+  EXPECT_EQ(tangential_kind_from_name("walton"), TangentialKind::Walton);
+  EXPECT_EQ(tangential_kind_from_name("history"), TangentialKind::History);
+  EXPECT_EQ(tangential_kind_from_name("none"), TangentialKind::None);
+  EXPECT_EQ(cohesion_kind_from_name("none"), CohesionKind::None);
+  EXPECT_EQ(cohesion_kind_from_name("vdw"), CohesionKind::VanDerWaals);
+  EXPECT_EQ(NormalKind::Hooke.row, 1);
+  EXPECT_EQ(TangentialKind::None.row, 2);
+  EXPECT_EQ(CohesionKind::VanDerWaals.row, 1);
+}
+
+TEST(SubModelTables, UnknownNameListsTheAllowedOnes) {
+  expect_unknown_name_lists_allowed<NormalKind>("hertz");
+  expect_unknown_name_lists_allowed<TangentialKind>("mindlin");
+  expect_unknown_name_lists_allowed<CohesionKind>("jkr");
+  EXPECT_EQ(error_of_name<NormalKind>("hertz"), "dem: normal contact model \"hertz\" is unknown; allowed: walton, hooke");
+  EXPECT_THROW(normal_kind_from_name(""), Error);
+  EXPECT_THROW(normal_kind_from_name("Walton"), Error);  // names are exact
+  // A row outside the table (a corrupt checkpoint) is refused, not dispatched.
+  ContactModelSpec bad;
+  bad.tangential = TangentialKind{7};
+  try {
+    validate(valid_params(), bad, "groups[0].contact");
+    ADD_FAILURE() << "row 7 accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("tangential contact model number 7 is unknown"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(make_contact_law(bad, {}, {}), Error);
+}
+
+TEST(SubModelTables, EveryCompositionValidatesAndBuildsItsLaw) {
+  const ContactParams p = valid_params();
+  int laws = 0;
+  for (const std::string& n : normal_model_names())
+    for (const std::string& t : tangential_model_names())
+      for (const std::string& c : cohesion_model_names()) {
+        const ContactModelSpec spec{normal_kind_from_name(n), tangential_kind_from_name(t), cohesion_kind_from_name(c)};
+        EXPECT_NO_THROW(validate(p, spec, "p")) << n << " " << t << " " << c;
+        const int history = visit_model(spec.normal, [&]<class N>(std::type_identity<N>) {
+          return visit_model(spec.tangential, [&]<class T>(std::type_identity<T>) {
+            return visit_model(spec.cohesion,
+                               [&]<class C>(std::type_identity<C>) { return N::kHistory + T::kHistory + C::kHistory; });
+          });
+        });
+        EXPECT_EQ(law_of(spec, p)->history_size(), history) << n << " " << t << " " << c;
+        ++laws;
+      }
+  EXPECT_EQ(laws, int(NormalModels::size * TangentialModels::size * CohesionModels::size));
+}
+
+TEST(SubModelTables, ACompositionASubModelRefusesIsNotComposable) {
+  static_assert(!combinable<WaltonNormal, RefusesWalton>() && !combinable<RefusesWalton, WaltonNormal>());
+  static_assert(combinable<HookeNormal, RefusesWalton>());
+  static_assert(!kComposable<WaltonNormal, RefusesWalton, NoCohesion>);
+  static_assert(kComposable<HookeNormal, RefusesWalton, NoCohesion>);
+  static_assert(kComposable<WaltonNormal, HistoryTangential, VdwCohesion>);
+}
+
+TEST(SubModelTables, EachRowChecksWhatItReads) {
+  const auto error_of = [](const ContactParams& p, const ContactModelSpec& spec) -> std::string {
+    try {
+      validate(p, spec, "groups[1].contact");
+    } catch (const Error& e) {
+      return e.what();
+    }
+    return {};
+  };
+  const ContactModelSpec walton{NormalKind::Walton, TangentialKind::Walton, CohesionKind::None};
+  ContactParams p = valid_params();
+  p.walton_gamma = 0.0;
+  EXPECT_EQ(error_of(p, walton),
+            "dem: groups[1].contact.walton_gamma = 0 is not allowed; the exponent γ of Eq. 2.10 must be in (0, 10]");
+  EXPECT_EQ(error_of(p, {NormalKind::Walton, TangentialKind::History, CohesionKind::None}), "");  // not read
+  p = valid_params();
+  p.e = 2.0;
+  EXPECT_NE(error_of(p, walton).find("groups[1].contact.e = 2"), std::string::npos);
+  p.gamma_n = 500.0;  // Hooke with a given γn does not read e
+  EXPECT_EQ(error_of(p, {NormalKind::Hooke, TangentialKind::History, CohesionKind::None}), "");
+  p = valid_params();
+  p.alpha_cut = p.alpha_min;
+  EXPECT_EQ(error_of(p, walton), "");
+  EXPECT_NE(error_of(p, {NormalKind::Walton, TangentialKind::None, CohesionKind::VanDerWaals}).find("alpha_cut"),
+            std::string::npos);
+  p = valid_params();
+  p.kt = 0.0;  // frictionless contacts need no tangential spring
+  EXPECT_EQ(error_of(p, {NormalKind::Hooke, TangentialKind::None, CohesionKind::None}), "");
+  EXPECT_NE(error_of(p, {NormalKind::Hooke, TangentialKind::History, CohesionKind::None}).find(".kt = 0"),
+            std::string::npos);
+}
+
+TEST(SubModelTables, MixTakesEachBlocksArithmeticMeans) {
+  ContactParams a, b;
+  a.k1 = 100.0, b.k1 = 300.0;
+  a.e = 0.5, b.e = 0.9;
+  a.gamma_n = 10.0, b.gamma_n = 30.0;
+  a.kt = 20.0, b.kt = 40.0;
+  a.mu = 0.2, b.mu = 0.6;
+  a.walton_gamma = 1.0, b.walton_gamma = 0.5;
+  a.gamma_t = -1.0, b.gamma_t = 8.0;
+  a.damp_flag = true, b.damp_flag = false;
+  a.hamaker = 1e-19, b.hamaker = 3e-19;
+  a.vdw_radius = 0.0, b.vdw_radius = 2e-6;
+  a.r_ss = 2e-10, b.r_ss = 4e-10;
+  a.alpha_min = 4e-10, b.alpha_min = 6e-10;
+  a.alpha_cut = 1e-7, b.alpha_cut = 3e-7;
+  const ContactParams c = mix(a, b);
+  EXPECT_EQ(c.k1, 200.0);
+  EXPECT_EQ(c.e, 0.5 * (0.5 + 0.9));
+  EXPECT_EQ(c.gamma_n, 20.0);
+  EXPECT_EQ(c.kt, 30.0);
+  EXPECT_EQ(c.mu, 0.5 * (0.2 + 0.6));
+  EXPECT_EQ(c.walton_gamma, 0.75);
+  EXPECT_EQ(c.gamma_t, -1.0);  // derived unless both groups give it
+  EXPECT_FALSE(c.damp_flag);
+  EXPECT_EQ(c.hamaker, 0.5 * (1e-19 + 3e-19));
+  EXPECT_EQ(c.vdw_radius, 1e-6);
+  EXPECT_EQ(c.r_ss, 0.5 * (2e-10 + 4e-10));
+  EXPECT_EQ(c.alpha_min, 0.5 * (4e-10 + 6e-10));
+  EXPECT_EQ(c.alpha_cut, 0.5 * (1e-7 + 3e-7));
+}
+
+TEST(SubModelTimeScales, WaltonCollisionTimeIsEq222) {
+  ContactParams p = valid_params();
+  p.k1 = 1e-7;
+  p.e = 0.95;
+  const double mu = 5026.0 / 2;
+  const ContactModelSpec spec{NormalKind::Walton, TangentialKind::None, CohesionKind::None};
+  EXPECT_DOUBLE_EQ(collision_time(spec, p, mu, mu), std::numbers::pi * 0.95 * std::sqrt(mu / 1e-7));
+  EXPECT_EQ(collision_time(spec, p, mu, mu), walton_collision_time(mu, p.k1, p.e));
+  // The stiffest spring is the unloading one, K2 = K1/e² (Eq. 2.9).
+  EXPECT_DOUBLE_EQ(stability_limit(spec, p, mu), 2.0 * std::sqrt(mu / (1e-7 / (0.95 * 0.95))));
+  // A tangential spring stiffer than that sets the limit on 2/7 of the reduced mass.
+  p.kt = 1e-5;
+  EXPECT_DOUBLE_EQ(stability_limit({NormalKind::Walton, TangentialKind::Walton, CohesionKind::None}, p, mu),
+                   2.0 * std::sqrt(2.0 / 7.0 * mu / 1e-5));
+}
+
+TEST(SubModelTimeScales, HookeCollisionTimeIsPiOverOmegaD) {
+  ContactParams p = valid_params();
+  const ContactModelSpec spec{NormalKind::Hooke, TangentialKind::None, CohesionKind::None};
+  const double mu = 6.544984694978735e-07;  // two 1 mm spheres of 2500 kg/m³
+  p.gamma_n = 500.0;
+  EXPECT_DOUBLE_EQ(collision_time(spec, p, mu, mu), std::numbers::pi / std::sqrt(100.0 / mu - 0.25 * 500.0 * 500.0));
+  // γn derived from e: a collision of that reduced mass rebounds with e, v ∝ exp(−γn t/2).
+  p.gamma_n = -1.0;
+  const double gn = hooke_gamma_from_restitution(p.k1, p.e, mu);
+  const double tc = collision_time(spec, p, mu, mu);
+  EXPECT_DOUBLE_EQ(tc, std::numbers::pi / std::sqrt(100.0 / mu - 0.25 * gn * gn));
+  EXPECT_NEAR(std::exp(-0.5 * gn * tc), p.e, 1e-12);
+  // A wall (reduced mass m = 2 μ) with γn derived for two equal particles (m_eff = μ).
+  EXPECT_DOUBLE_EQ(collision_time(spec, p, 2 * mu, mu), std::numbers::pi / std::sqrt(100.0 / (2 * mu) - 0.25 * gn * gn));
+  // Overdamped: no rebound, no collision time.
+  p.gamma_n = 1e9;
+  EXPECT_EQ(collision_time(spec, p, mu, mu), 0.0);
+  EXPECT_DOUBLE_EQ(stability_limit(spec, p, mu), 2.0 * std::sqrt(mu / 100.0));
 }

@@ -121,6 +121,25 @@ TEST(DemTimeStep, DefaultFollowsEq223) {
   EXPECT_NEAR(s.dt(), std::numbers::pi * 0.8 * std::sqrt(m / 200.0) / 50.0, 1e-20);
 }
 
+TEST(DemTimeStep, IsTheChosenNormalModelsCollisionTimeOverN) {
+  const double m = sphere_mass(0.5 * kD, kRho);
+  const double mu = m * m / (m + m);  // the pair: a shorter collision than at a wall (μ = m)
+  for (const NormalKind nk : {NormalKind::Walton, NormalKind::Hooke}) {
+    Config c = two_spheres(0.8, 0.1, nk);
+    c.steps_per_collision = 40;
+    const Simulation s(c);
+    const double tc = visit_model(nk, [&]<class N>(std::type_identity<N>) {
+      return N::collision_time(c.groups[0].contact, mu, mu);
+    });
+    EXPECT_EQ(s.dt(), tc / 40) << model_name(nk);
+    EXPECT_EQ(s.dt(), collision_time(c.model, c.groups[0].contact, mu, mu) / 40) << model_name(nk);
+  }
+  // Hooke against π/ω_d, ω_d² = kn/μ − γn²/4, with γn derived from e = 0.8.
+  const Simulation s(two_spheres(0.8, 0.1, NormalKind::Hooke));
+  const double gn = hooke_gamma_from_restitution(100.0, 0.8, mu);
+  EXPECT_DOUBLE_EQ(s.dt(), std::numbers::pi / std::sqrt(100.0 / mu - 0.25 * gn * gn) / 50);
+}
+
 TEST(DemRestitution, BinaryHeadOnCollisionGivesSqrtK1OverK2) {
   for (double e : {0.5, 0.8, 0.95, 1.0}) {
     Simulation s(two_spheres(e, 0.05));

@@ -204,6 +204,30 @@ TEST(CliRun, BadSceneStopsBeforeTheRunWithKeyAndValue) {
   EXPECT_FALSE(fs::exists(out));
 }
 
+// Choices a run cannot honour are refused by validation, with the names its tables allow,
+// before any folder exists (the colour attribute comes from the engine's table: a 2D
+// engine has no vz; panels and colour maps from the renderer's tables).
+TEST(CliRun, ChoicesTheRunCannotHonourAreRefusedBeforeTheFolderExists) {
+  struct Bad {
+    std::string set, needle;
+  };
+  for (const Bad& b : {Bad{"render.color_by=vz", "\"uniform\" | \"speed\" | \"vx\" | \"vy\" | \"spin\" | \"height\""},
+                       Bad{"render.panels=[\\\"nonsense\\\"]", "\"particles\" | \"density\""},
+                       Bad{"render.colormap=jet", "\"viridis\" | \"inferno\""}}) {
+    const fs::path out = fresh_dir("run_refused");
+    const Result r = run("run " + scenes + "/disks_box.toml -o " + out.string() + " --set \"" + b.set + "\"");
+    EXPECT_EQ(r.status, 2) << b.set << "\n" << r.output;
+    EXPECT_TRUE(contains(r.output, "allowed: ")) << r.output;
+    EXPECT_TRUE(contains(r.output, b.needle)) << r.output;
+    EXPECT_FALSE(fs::exists(out)) << b.set;
+  }
+  // The 3D engine offers vz.
+  const fs::path out = fresh_dir("run_vz");
+  const Result r = run("run " + scenes + "/dem_vdw_pair.toml -o " + out.string() +
+                       " --set render.color_by=vz --set run.until=1e-8 --set render.size=[64,64] --set output.mp4=false");
+  EXPECT_EQ(r.status, 0) << r.output;
+}
+
 // Rows of a CSV file with a header: column name → values.
 std::map<std::string, std::vector<double>> read_csv(const fs::path& file) {
   std::map<std::string, std::vector<double>> cols;

@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <memory>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -20,6 +21,7 @@
 #include "render/output/fan_out_sink.hpp"
 #include "render/output/mp4_sink.hpp"
 #include "render/output/png_sequence_sink.hpp"
+#include "render/panel_layout.hpp"
 #include "scenes/src/cli/commands.hpp"
 #include "scenes/src/engines/field_snapshot.hpp"
 #include "scenes/src/engines/particle_snapshot.hpp"
@@ -177,6 +179,15 @@ int run_render(const RenderArgs& a) {
 
 }  // namespace
 
+namespace {
+// "a|b|c" of a name table, for help texts that list what the table allows.
+std::string joined(std::span<const std::string_view> names, std::string_view sep) {
+  std::string s;
+  for (auto n : names) s += (s.empty() ? "" : std::string(sep)) + std::string(n);
+  return s;
+}
+}  // namespace
+
 void setup_render_command(CLI::App& app, int& status) {
   auto args = std::make_shared<RenderArgs>();
   auto* cmd = app.add_subcommand("render", "Render particle files (LAMMPS/LIGGGHTS dumps, extended XYZ) to PNG + MP4");
@@ -188,7 +199,8 @@ void setup_render_command(CLI::App& app, int& status) {
   cmd->add_option("--color-by", args->colour_by,
                   "Per-particle column to colour by (speed, type, radius, z, vx, … any file column); "
                   "default: speed if velocities, else type");
-  cmd->add_option("--colormap", args->colormap, "viridis|inferno|magma|turbo|cool-warm|tab10")->capture_default_str();
+  cmd->add_option("--colormap", args->colormap, "Colour map: " + joined(render::Colormap::names(), "|"))
+      ->capture_default_str();
   cmd->add_option("--range", args->range, "Colour range LO HI (default: the first frame's range)")->expected(2);
   cmd->add_option("--msaa", args->msaa, "Multisample count (default 4 for 3D, 0 for 2D)");
   cmd->add_option("--fps", args->fps, "Video frame rate")->capture_default_str();
@@ -202,8 +214,8 @@ void setup_render_command(CLI::App& app, int& status) {
   cmd->add_flag("!--no-mp4", args->mp4, "Do not write the MP4");
   cmd->add_flag("--force", args->force, "Replace frames already in the output folder");
   cmd->add_option("--panels", args->panels,
-                  "Panels of each frame, filled row by row: particles, density, temperature, speed, streamlines, "
-                  "velocity (fields binned from the particles; 3D: averaged over z)")
+                  "Panels of each frame, filled row by row: " + joined(render::panel_names(), ", ") +
+                      " (fields binned from the particles; 3D: averaged over z)")
       ->delimiter(',');
   cmd->add_option("--bins", args->bins, "Bins of the field grid: NX NY")->expected(2)->capture_default_str();
   cmd->add_option("--layout", args->layout, "Panel grid: COLS ROWS (default: near-square for the panels)")

@@ -1,0 +1,163 @@
+// The rules of the application wing (ARCHITECTURE.md): the schema takes its allowed names
+// from the tables that honour them, and every declared key is consumed — small scenes of
+// each engine run through the run loop in-process, and every key of each engine's schema
+// must have been read through its handle (pbrt-v4 reports unused parameters; here a key
+// that nothing reads fails the suite).
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "render/layers/colormap.hpp"
+#include "render/panel_layout.hpp"
+#include "scenes/src/engines/engine_table.hpp"
+#include "scenes/src/outputs/output_table.hpp"
+#include "scenes/src/run/run_loop.hpp"
+#include "scenes/src/run/scene_catalog.hpp"
+#include "scenes/src/scene/scene.hpp"
+#include "scenes/src/scene/schema.hpp"
+
+namespace fs = std::filesystem;
+using namespace grainflow::scenes;
+
+namespace {
+
+std::vector<std::string> strings(std::span<const std::string_view> names) { return {names.begin(), names.end()}; }
+
+const KeySpec& key(std::string_view engine, std::string_view path) {
+  const KeySpec* k = schema_for_engine(engine).find_key(path);
+  if (!k) throw std::logic_error("no key " + std::string(path));
+  return *k;
+}
+
+// Every key of `schema` (dotted, no indices) that is not in `read`.
+std::vector<std::string> unread_keys(const Schema& schema, const std::set<std::string>& read) {
+  std::vector<std::string> out;
+  for (const auto& t : schema.tables())
+    for (const auto& k : t.keys())
+      if (!read.count(t.path() + "." + k.name)) out.push_back(t.path() + "." + k.name);
+  return out;
+}
+
+fs::path fresh(const std::string& name) {
+  const fs::path d = fs::path(GRAINFLOW_TEST_OUT) / "app_tables" / name;
+  fs::remove_all(d);
+  return d;
+}
+
+// Small frames, a short video: every output on in at least one case.
+const std::string kRender = "[render]\nsize = [64, 48]\nmsaa = 0\n";
+
+const std::string kEd = R"([run]
+engine = "ed"
+until = 2.0
+title = "keys"
+[system]
+box = [24.0, 24.0]
+kT = 1.0
+[sample]
+exposure = 1.0
+bins = [4, 4]
+)";
+
+const std::string kDem = R"([run]
+engine = "dem"
+until = 2.0e-3
+[system]
+box = [0.01, 0.01, 0.01]
+[[system.group]]
+N = 20
+radius = 5.0e-4
+[sample]
+exposure = 1.0e-3
+bins = [4, 4]
+)";
+
+std::string steps_instead_of_until(std::string text) {
+  const std::string until = "until = 2.0e-3\n";
+  return text.replace(text.find(until), until.size(), "steps = 5\n");
+}
+
+struct Case {
+  std::string text;
+  std::vector<std::string> overrides;
+};
+
+std::vector<Case> cases(const fs::path& dir) {
+  // A two-particle file for system.initial.kind = "file".
+  fs::create_directories(dir);
+  const fs::path xyz = dir / "pair.xyz";
+  std::ofstream(xyz) << "2\nLattice=\"0.01 0 0 0 0.01 0 0 0 0.01\" Properties=species:S:1:pos:R:3:radius:R:1\n"
+                        "1 0.003 0.005 0.005 5e-4\n1 0.007 0.005 0.005 5e-4\n";
+  return {
+      {kEd + kRender, {"system.area_fraction=0.3", "output.particles=true", "render.range=[0.0, 2.0]"}},
+      {kEd + kRender, {"system.n=0.2", "output.mp4=false", "system.mu=0.3", "output.stats_every=0.5"}},
+      {kEd + kRender + "[boundary.obstacle]\nD = 4.0\nx = 12.0\ny = 12.0\n",
+       {"system.N=60", "boundary.periodic=[false, true]", "boundary.stream.kind=\"dispenser_filter\"", "system.U=0.5",
+        "output.png=false"}},
+      {kEd + kRender, {"system.N=40", "boundary.periodic=[false, true]", "boundary.stream.kind=\"low_density\"",
+                       "system.U=0.5", "output.png=false", "output.mp4=false"}},
+      {kDem + kRender, {"system.initial.kind=\"lattice\"", "output.particles=true", "render.color_by=\"group\""}},
+      {kDem + kRender + "[system.vdw]\nA = 1.0e-19\n",
+       {"system.initial.kind=\"file\"", "system.initial.file=\"" + xyz.string() + "\"", "system.group[0].N=2",
+        "output.pair_csv=true", "output.png=false", "system.dt=1.0e-6"}},
+      {steps_instead_of_until(kDem) + kRender, {"output.png=false", "output.mp4=false"}},
+  };
+}
+
+}  // namespace
+
+TEST(AppTables, SchemaNamesComeFromTheTablesThatHonourThem) {
+  for (const auto& e : engines()) {
+    EXPECT_EQ(key(e.name, "render.panels").choices, strings(grainflow::render::panel_names()));
+    EXPECT_EQ(key(e.name, "render.colormap").choices, strings(grainflow::render::Colormap::names()));
+    EXPECT_EQ(key(e.name, "render.color_by").choices, e.colour_attributes());
+    EXPECT_EQ(key(e.name, "run.engine").choices, engine_names());
+  }
+  // A 2D engine offers no vz; the 3D one does.
+  const auto ed = find_engine("ed")->colour_attributes(), dem = find_engine("dem")->colour_attributes();
+  EXPECT_EQ(std::count(ed.begin(), ed.end(), "vz"), 0);
+  EXPECT_EQ(std::count(dem.begin(), dem.end(), "vz"), 1);
+}
+
+TEST(AppTables, EveryOutputRowOpensOneKindOfOutput) {
+  std::set<std::string_view> names;
+  for (const auto& o : outputs()) {
+    EXPECT_NE(o.open_image == nullptr, o.open_data == nullptr) << o.name;
+    EXPECT_TRUE(names.insert(o.name).second) << o.name;
+  }
+  EXPECT_EQ(outputs().back().name, "run.json");  // finished last, recording the others done
+}
+
+TEST(AppTables, UnreadKeysAreFound) {
+  // The check below can fail: with only run.engine read, everything else is reported.
+  const auto unread = unread_keys(schema_for_engine("ed"), {"run.engine"});
+  EXPECT_GT(unread.size(), 20u);
+  EXPECT_EQ(std::count(unread.begin(), unread.end(), "run.engine"), 0);
+  EXPECT_EQ(std::count(unread.begin(), unread.end(), "system.kT"), 1);
+}
+
+TEST(AppTables, EveryDeclaredKeyIsReadBySomething) {
+  const fs::path dir = fresh("declared");
+  std::map<std::string, std::set<std::string>> read;
+  int n = 0;
+  for (const auto& c : cases(dir)) {
+    const Scene s = parse_scene(c.text, "case.toml", c.overrides);
+    RunOptions opt;
+    opt.dir = dir / ("case" + std::to_string(n++));
+    opt.name = "case";
+    opt.quiet = true;
+    ASSERT_EQ(run_scene(s, opt), 0);
+    for (auto& k : s.keys_read()) read[s.engine()].insert(k);
+  }
+  for (const auto& e : engines()) {
+    const auto unread = unread_keys(schema_for_engine(e.name), read[std::string(e.name)]);
+    std::string list;
+    for (const auto& k : unread) list += " " + k;
+    EXPECT_TRUE(unread.empty()) << e.name << ": declared but read by nothing:" << list;
+  }
+}
