@@ -57,6 +57,7 @@ public:
   bool evaluate(int tp, const ContactKinematics& k, double* h, bool update, ContactForce& out) const override {
     return eval(params_[tp], k, h, update, out);
   }
+  double cohesion_force(int tp, const ContactKinematics& k) const override { return C::force(params_[tp].c, k); }
 
   // Branch-free, so that the contacts of a chunk run in SIMD lanes: the sub-models work
   // on a copy of the history, kept (update) only while the contact lasts.

@@ -51,6 +51,9 @@ public:
   // One contact, for tests and diagnostics. Returns false when out of range.
   virtual bool evaluate(int type_pair, const ContactKinematics& k, double* hist, bool update,
                         ContactForce& out) const = 0;
+  // The attraction of the cohesion sub-model alone [N, attractive > 0] for a contact at
+  // k.delta (−delta = surface gap); 0 without cohesion. For diagnostics (pair.csv).
+  virtual double cohesion_force(int type_pair, const ContactKinematics& k) const = 0;
 };
 
 // per_type[type_pair(a, b)] for a, b ∈ {0, 1} and b = kWallType; m_eff_pair[...] is the

@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "engine/dem/contact_params.hpp"
 #include "render/layers/colormap.hpp"
 #include "render/panel_layout.hpp"
 #include "scenes/src/engines/engine_table.hpp"
@@ -118,6 +119,8 @@ TEST(AppTables, SchemaNamesComeFromTheTablesThatHonourThem) {
     EXPECT_EQ(key(e.name, "render.color_by").choices, e.colour_attributes());
     EXPECT_EQ(key(e.name, "run.engine").choices, engine_names());
   }
+  EXPECT_EQ(key("dem", "system.contact.normal").choices, grainflow::dem::normal_model_names());
+  EXPECT_EQ(key("dem", "system.contact.tangential").choices, grainflow::dem::tangential_model_names());
   // A 2D engine offers no vz; the 3D one does.
   const auto ed = find_engine("ed")->colour_attributes(), dem = find_engine("dem")->colour_attributes();
   EXPECT_EQ(std::count(ed.begin(), ed.end(), "vz"), 0);

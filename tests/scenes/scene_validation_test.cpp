@@ -273,7 +273,8 @@ A = 6.5e-20
   EXPECT_EQ(d.get<double>("system.group[1].radius"), 0.0015);
   EXPECT_EQ(d.get<double>("system.group[1].density"), 7800.0);
   EXPECT_EQ(d.get<double>("system.group[0].density"), 2500.0);  // default per element
-  EXPECT_EQ(d.get<std::string>("system.contact.model"), "walton");
+  EXPECT_EQ(d.get<std::string>("system.contact.normal"), "walton");
+  EXPECT_EQ(d.get<std::string>("system.contact.tangential"), "walton");
   EXPECT_EQ(d.get<double>("system.vdw.A"), 6.5e-20);
   EXPECT_EQ(d.get<double>("system.vdw.cutoff"), 1.0e-6);
   EXPECT_EQ((d.get<std::array<bool, 3>>("boundary.periodic")), (std::array<bool, 3>{false, false, false}));

@@ -5,12 +5,22 @@
 #include <array>
 #include <string>
 
+#include "engine/dem/contact_params.hpp"
 #include "scenes/src/engines/dem/dem_keys.hpp"
 #include "scenes/src/scene/scene.hpp"
 #include "scenes/src/scene/schema.hpp"
 #include "scenes/src/scene/toml_text.hpp"
 
 namespace grainflow::scenes::dem_keys {
+
+namespace {
+// "a: what a does; b: what b does" from a sub-model table, for the key's doc.
+std::string table_doc(std::span<const dem::SubModelInfo> rows) {
+  std::string s;
+  for (const auto& r : rows) s += (s.empty() ? "" : "; ") + std::string(r.name) + ": " + std::string(r.description);
+  return s;
+}
+}  // namespace
 
 void declare(Schema& s) {
   s.table("sample").add_enum(plane, {"xy", "xz", "yz"}, "xz",
@@ -39,8 +49,10 @@ void declare(Schema& s) {
       .at_least(0.0);
 
   auto& contact = s.section("system.contact", "contact model between particles and with walls (§2.4)");
-  contact.add_enum(contact_model, {"walton", "hooke"}, "walton",
-                   "walton: partially latching spring + incrementally slipping friction; hooke: linear spring-dashpot");
+  contact.add_enum(normal_model, dem::normal_model_names(), "walton",
+                   "normal force: " + table_doc(dem::sub_models<dem::NormalKind>()));
+  contact.add_enum(tangential_model, dem::tangential_model_names(), "walton",
+                   "tangential force: " + table_doc(dem::sub_models<dem::TangentialKind>()));
   contact.add_float(kn, 1.0e4, "normal loading stiffness K1", "N/m").above(0.0);
   contact.add_float(kt, 8.0e3, "initial tangential stiffness", "N/m").above(0.0);
   contact.add_float(e, 0.9, "normal restitution e = sqrt(K1/K2) (Eq. 2.9)").above(0.0).at_most(1.0);

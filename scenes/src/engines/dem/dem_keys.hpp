@@ -20,7 +20,10 @@ inline constexpr Key<std::int64_t> steps_per_collision{"system.steps_per_collisi
 inline constexpr Key<std::string> neighbor_search{"system.neighbor_search"};
 inline constexpr Key<double> skin{"system.skin"};
 
-inline constexpr Key<std::string> contact_model{"system.contact.model"};
+// Sub-model names come from engine/dem's tables (contact_models.hpp); cohesion is chosen by
+// the presence of [system.vdw], whose keys are its coefficients.
+inline constexpr Key<std::string> normal_model{"system.contact.normal"};
+inline constexpr Key<std::string> tangential_model{"system.contact.tangential"};
 inline constexpr Key<double> kn{"system.contact.kn"};
 inline constexpr Key<double> kt{"system.contact.kt"};
 inline constexpr Key<double> e{"system.contact.e"};

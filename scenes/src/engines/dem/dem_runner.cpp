@@ -17,7 +17,7 @@
 #include "engine/core/state_digest.hpp"
 #include "engine/dem/field_sampler.hpp"
 #include "engine/dem/simulation.hpp"
-#include "engine/dem/vdw_cohesion.hpp"
+#include "engine/dem/pair_probe.hpp"
 #include "scenes/src/engines/dem/dem_keys.hpp"
 #include "scenes/src/engines/engine_runner.hpp"
 #include "scenes/src/engines/engine_table.hpp"
@@ -97,9 +97,8 @@ dem::Config dem_config(const Scene& sc) {
                                                                             : dem::NeighborMethod::ChainCells;
   if (const double skin = sc.get(keys::skin); skin > 0) c.skin = skin;
 
-  const bool walton = sc.get(keys::contact_model) == "walton";
-  c.model.normal = walton ? dem::NormalKind::Walton : dem::NormalKind::Hooke;
-  c.model.tangential = walton ? dem::TangentialKind::Walton : dem::TangentialKind::History;
+  c.model.normal = dem::normal_kind_from_name(sc.get(keys::normal_model));
+  c.model.tangential = dem::tangential_kind_from_name(sc.get(keys::tangential_model));
   c.model.cohesion = sc.has(keys::vdw) ? dem::CohesionKind::VanDerWaals : dem::CohesionKind::None;
 
   c.groups.clear();
@@ -188,26 +187,15 @@ core::BinningOptions binning_options(const Scene& sc, const dem::Config& cfg) {
 }
 
 // pair.csv (output.pair_csv): particles 1 and 2 of the scene every output.pair_every
-// steps, the force–separation record of Fig. 5.6–5.16. α = |x₂ − x₁| − r₁ − r₂ (negative
-// = overlap, minimum image across periodic axes); forces along n = (x₂ − x₁)/|x₂ − x₁|,
-// positive = repulsive: normal_force = F₂·n (all forces on particle 2, i.e. the pair force
-// when nothing else touches it), vdw_force = the attraction of Eq. 5.29 at α (0 without
-// [system.vdw]), contact_force = normal_force + vdw_force (the spring alone, Fig. 5.11);
-// v_rel_n = (v₂ − v₁)·n (positive = separating). Written through AtomicFile.
+// steps, the force–separation record of Fig. 5.6–5.16 as dem::sample_pair measures it
+// (engine/dem/pair_probe.hpp: separation α, normal_force, vdw_force = the cohesion
+// sub-model's attraction, contact_force, v_rel_n). Written through AtomicFile.
 class PairProbe final : public RunOutput {
 public:
-  PairProbe(const std::filesystem::path& file, const Scene& sc) : file_(file) {
+  explicit PairProbe(const std::filesystem::path& file) : file_(file) {
     out_ = std::fopen(file_.path().c_str(), "w");
     if (!out_) throw Error("cannot write " + file_.path().string());
     std::fputs("step,time,separation,normal_force,vdw_force,contact_force,v_rel_n\n", out_);
-    if (sc.has(keys::vdw)) {
-      vdw_.emplace();
-      vdw_->hamaker = sc.get(keys::vdw_A);
-      vdw_->asperity = sc.get(keys::vdw_asperity_radius);
-      vdw_->rss6 = std::pow(sc.get(keys::vdw_r_ss), 6);
-      vdw_->alpha_min = sc.get(keys::vdw_alpha_min);
-      vdw_->alpha_cut = sc.get(keys::vdw_cutoff);
-    }
   }
   ~PairProbe() override {
     if (out_) std::fclose(out_);
@@ -216,26 +204,9 @@ public:
   PairProbe& operator=(const PairProbe&) = delete;
 
   void record(const dem::Simulation& sim) {
-    const auto& b = sim.config().box;
-    Vec3 d = sim.position(1) - sim.position(0);
-    for (int a = 0; a < 3; ++a)
-      if (b.periodic[std::size_t(a)]) {
-        const double L = b.hi[a] - b.lo[a];
-        d[a] -= L * std::round(d[a] / L);
-      }
-    const double dist = d.norm();
-    const Vec3 n = dist > 0 ? Vec3(d / dist) : Vec3(1, 0, 0);
-    const double r0 = sim.radius(0), r1 = sim.radius(1);
-    const double gap = dist - r0 - r1;
-    const double fn = sim.force(1).dot(n);
-    double fv = 0;
-    if (vdw_ && gap < vdw_->alpha_cut) {
-      const double reff = vdw_->asperity > 0 ? 0.5 * vdw_->asperity : r0 * r1 / (r0 + r1);
-      fv = dem::VdwCohesion::vdw_force(vdw_->hamaker, reff, vdw_->rss6, std::max(gap, vdw_->alpha_min));
-    }
-    const double vn = (sim.velocity(1) - sim.velocity(0)).dot(n);
+    const dem::PairSample p = dem::sample_pair(sim, 0, 1);
     std::fprintf(out_, "%llu,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g\n", static_cast<unsigned long long>(sim.steps()),
-                 sim.time(), gap, fn, fv, fn + fv, vn);
+                 sim.time(), p.separation, p.normal_force, p.cohesion_force, p.contact_force, p.v_rel_n);
   }
   void finish(const RunRecord&) override {
     if (!out_) return;
@@ -248,7 +219,6 @@ public:
 private:
   io::AtomicFile file_;
   std::FILE* out_ = nullptr;
-  std::optional<dem::VdwCohesion::Params> vdw_;
 };
 
 // What render.color_by may colour a sphere by: the one list the schema offers and the
@@ -296,7 +266,7 @@ public:
     if (!scene_.get(keys::pair_csv)) return out;
     if (sim_.size() < 2)
       throw Error("output.pair_csv = true needs at least 2 particles; the scene has " + std::to_string(sim_.size()));
-    auto probe = std::make_unique<PairProbe>(context.dir / "pair.csv", scene_);
+    auto probe = std::make_unique<PairProbe>(context.dir / "pair.csv");
     pair_ = probe.get();
     pair_->record(sim_);
     out.push_back(std::move(probe));
