@@ -5,6 +5,7 @@
 #include <numbers>
 #include <string>
 
+#include "scenes/src/engines/ed/ed_agents.hpp"
 #include "scenes/src/engines/ed/ed_keys.hpp"
 #include "scenes/src/scene/scene.hpp"
 #include "scenes/src/scene/schema.hpp"
@@ -53,78 +54,15 @@ void declare(Schema& s) {
   bnd.add_bool_array(periodic, {true, true}, {"x", "y"}, "periodic axes; a non-periodic axis has elastic walls, except x with an open "
                       "boundary.stream.kind (the inlet/outlet close it)");
 
-  auto& obs = s.optional_table(obstacle, "fixed circular obstacle (§3.3, §5)");
-  obs.add_float(obstacle_D, 74.0, "obstacle diameter", "σ").above(0.0);
-  obs.add_float(obstacle_x, 0.0, "obstacle centre x (box origin at the lower left corner)", "σ").required();
-  obs.add_float(obstacle_y, 0.0, "obstacle centre y", "σ").required();
-  obs.add_enum(obstacle_kind, {"slip", "noslip_thermal", "noslip_flip"}, "slip",
-               "surface: specular slip, no-slip by thermal re-emission, or no-slip by tangential flip");
-  obs.add_float(obstacle_r, 1.0, "restitution of the obstacle surface (slip)").above(0.0).at_most(1.0);
-
-  auto& stream = s.section("boundary.stream", "how disks enter at x = 0 and leave at x = Lx (§3.1–3.3); the "
-                                              "stream's velocity, temperature and density are system.U, kT and "
-                                              "the system's area fraction");
-  stream.add_enum(stream_kind, {"periodic", "low_density", "dispenser_filter"}, "periodic",
-                  "periodic in x, low-density inlet/outlet by flux distributions (§3.2), or dispenser piston + "
-                  "filter (§3.3, dense streams)");
-  stream.add_float(filter_distance, 3.0,
-                   "dispenser_filter: distance of the filter plane before the outlet x = Lx; disks crossing it "
-                   "are turned back or frozen at the stream velocity (Fig. 3.8)",
-                   "σ")
-      .above(0.5)
-      .with_note("more than a disk radius (seed §3.3)");
-  stream.add_enum(piston, {"elastic", "thermal"}, "elastic",
-                  "dispenser_filter: the inlet piston reflects disks specularly in its frame, or re-emits them at "
-                  "system.kT (Fig. 3.9)");
-
   s.add_check([](const Scene& sc, SceneCheck& c) {
     const auto L = sc.get(box);
-    if (sc.has(obstacle)) {
-      const double R = sc.get(obstacle_D) / 2;
-      const double x = sc.get(obstacle_x), y = sc.get(obstacle_y);
-      if (x - R < 0 || x + R > L[0] || y - R < 0 || y + R > L[1])
-        c.fail(obstacle_x.path, "obstacle of diameter " + toml_float(2 * R) + " at (" + toml_float(x) + ", " +
-                                          toml_float(y) + ") does not fit in the box [" + toml_float(L[0]) +
-                                          ", " + toml_float(L[1]) + "]; allowed: R ≤ x ≤ Lx − R, R ≤ y ≤ Ly − R");
-    }
     const double cell = sc.get(cell_size);
     if (cell * 3 > std::min(L[0], L[1]))
       c.fail(cell_size.path, "system.cell_size = " + toml_float(cell) +
-                                     " leaves fewer than 3 cells across the box; allowed: cell_size ≤ min(Lx, Ly)/3");
-    const auto axes = sc.get(periodic);
-    const std::string kind = sc.get(stream_kind);
-    if (kind == "dispenser_filter") {
-      const double fd = sc.get(filter_distance);
-      if (fd >= L[0] / 2)
-        c.fail(filter_distance.path,
-               "boundary.stream.filter_distance = " + toml_float(fd) + " leaves no stream before the filter; allowed: "
-               "filter_distance < Lx/2 = " + toml_float(L[0] / 2));
-      const double eta = sc.has(area_fraction) ? sc.get(area_fraction)
-                         : sc.has(n)             ? sc.get(n) * std::numbers::pi / 4
-                         : sc.has(N) ? double(sc.get(N)) * std::numbers::pi / 4 /
-                                                    (L[0] * L[1])
-                                              : 0.0;
-      if (eta >= std::numbers::pi / 4)
-        c.fail(area_fraction.path, "area fraction " + toml_float(eta) +
-                                           " with boundary.stream.kind = \"dispenser_filter\": the dispenser's "
-                                           "monolayer cannot hold it; allowed: area fraction < π/4 ≈ 0.785");
-      if (sc.get(U) < 0)
-        c.fail(U.path, "system.U = " + toml_float(sc.get(U)) +
-                               " with boundary.stream.kind = \"dispenser_filter\"; allowed: U ≥ 0 (the stream runs "
-                               "along +x)");
-      if (sc.has(obstacle)) {
-        const double R = sc.get(obstacle_D) / 2, x = sc.get(obstacle_x);
-        if (x + R + 2 > L[0] - fd || x - R - 2 < 1)
-          c.fail(obstacle_x.path, "obstacle at x = " + toml_float(x) + " with D = " + toml_float(2 * R) +
-                                            " reaches the dispenser strip [0, 1] or the filter at Lx − filter_distance "
-                                            "= " + toml_float(L[0] - fd) + "; allowed: 3 + R ≤ x ≤ Lx − "
-                                            "filter_distance − 2 − R");
-      }
-    }
-    if (kind != "periodic" && axes[0])
-      c.fail(periodic.path, "boundary.stream.kind = \"" + sc.get(stream_kind) +
-                                      "\" needs an open x axis; allowed: boundary.periodic = [false, …]");
+                                 " leaves fewer than 3 cells across the box; allowed: cell_size ≤ min(Lx, Ly)/3");
   });
+  // The agents' own keys (obstacle, stream boundaries), in table order.
+  for (const auto& a : ed_agents()) a.declare_keys(s);
 }
 
 }  // namespace grainflow::scenes::ed_keys

@@ -9,10 +9,9 @@
 #include "engine/core/error.hpp"
 #include "engine/core/rng.hpp"
 #include "engine/core/state_digest.hpp"
-#include "engine/ed/dense_stream.hpp"
 #include "engine/ed/field_sampler.hpp"
-#include "engine/ed/low_density_stream.hpp"
 #include "engine/ed/simulation.hpp"
+#include "scenes/src/engines/ed/ed_agents.hpp"
 #include "scenes/src/engines/ed/ed_keys.hpp"
 #include "scenes/src/engines/engine_runner.hpp"
 #include "scenes/src/engines/engine_table.hpp"
@@ -56,12 +55,6 @@ ed::Config ed_config(const Scene& sc) {
   return c;
 }
 
-// The stream's area fraction as the scene gives it (one of area_fraction, n, N).
-double stream_area_fraction(const Scene& sc, const ed::Config& c) {
-  if (auto eta = sc.find(keys::area_fraction)) return *eta;
-  return double(c.n) * std::numbers::pi / 4.0 / (c.lx * c.ly);
-}
-
 // What render.color_by may colour a disk by: the one list the schema offers and the
 // snapshot computes (seed 003 draws speed; spin needs mu > 0 to be non-zero).
 struct DiskAttribute {
@@ -101,21 +94,8 @@ public:
     sc_cfg.exposure = sc.get(sample_keys::exposure);
     sc_cfg.interval = sample_keys::sample_interval(sc_cfg.exposure);
     sampler_ = &sim_.emplace_timer<ed::FieldSampler>(sc_cfg, sim_.time());
-    if (sc.has(keys::obstacle)) {
-      ed::ObstacleConfig oc;
-      oc.centre = {sc.get(keys::obstacle_x), sc.get(keys::obstacle_y)};
-      oc.radius = sc.get(keys::obstacle_D) / 2;
-      const std::string kind = sc.get(keys::obstacle_kind);
-      oc.boundary = kind == "slip"             ? ed::ObstacleBoundary::slip
-                    : kind == "noslip_thermal" ? ed::ObstacleBoundary::thermal
-                                               : ed::ObstacleBoundary::flip;
-      oc.restitution = sc.get(keys::obstacle_r);
-      oc.kT = sim_.config().kT;  // boundary temperature of the thermal wall [TTKB98]
-      // Its own random stream, derived from the run's seed.
-      oc.seed = core::substream_seed(sim_.config().seed, 1);
-      obstacle_ = &sim_.add_obstacle(oc);
-    }
-    add_stream_boundaries(sc);
+    for (const auto& agent : ed_agents())
+      if (auto run = agent.attach(sc, sim_)) agents_.push_back(std::move(run));
   }
 
   double time() const override { return sim_.time(); }
@@ -153,7 +133,7 @@ public:
       if (attribute.value) s.attribute[out] = float(attribute.value(sim_, i, d));
     }
     s.obstacles.clear();
-    if (obstacle_) s.obstacles.push_back({obstacle_->config().centre, obstacle_->config().radius});
+    for (const auto& a : agents_) a->draw(s);
     // The exposure that ended most recently; none yet at the first frame.
     auto exposures = sampler_->take_frames();
     if (!exposures.empty()) {
@@ -163,26 +143,27 @@ public:
     if (cfg.stream.x() != 0 || cfg.stream.y() != 0) s.reference_velocity = Eigen::Vector2d(cfg.stream.x(), cfg.stream.y());
   }
 
+  // The engine's window, then each attached agent's columns (the obstacle's drag), then the
+  // open-stream counters.
   std::vector<std::string> stats_columns() const override {
-    return {"collisions", "events", "N", "kinetic_energy", "kT", "pressure", "mean_free_time", "momentum_x",
-            "momentum_y", "drag_x", "drag_y", "inserted", "removed", "N_frozen"};
+    std::vector<std::string> c = {"collisions",     "events",         "N",          "kinetic_energy", "kT",
+                                  "pressure",       "mean_free_time", "momentum_x", "momentum_y"};
+    for (const auto& a : agents_)
+      for (auto& name : a->stats_columns()) c.push_back(std::move(name));
+    for (const char* name : {"inserted", "removed", "N_frozen"}) c.emplace_back(name);
+    return c;
   }
   std::vector<double> stats_row() override {
     const ed::Observables o = sim_.observables();
     sim_.synchronise();
     const Vec2 p = sim_.momentum();
-    // Drag: momentum the obstacle received per unit time over the window (Fig. 4.19).
-    Vec2 drag = Vec2::Zero();
-    if (obstacle_ && o.duration > 0) {
-      drag = (obstacle_->impulse() - impulse_at_reset_) / o.duration;
-      impulse_at_reset_ = obstacle_->impulse();
-    }
+    std::vector<double> row = {double(sim_.stats().collisions), double(sim_.stats().events), double(sim_.count()),
+                               sim_.kinetic_energy(), o.kT, o.pressure, o.mean_free_time, p.x(), p.y()};
+    for (const auto& a : agents_) a->stats_row(o.duration, row);
     // N: disks present; inserted/removed: disks that entered/left through open stream
     // boundaries since the start; N_frozen: of N, those frozen by the filter (§3.3).
-    std::vector<double> row = {double(sim_.stats().collisions), double(sim_.stats().events), double(sim_.count()),
-                               sim_.kinetic_energy(), o.kT, o.pressure, o.mean_free_time, p.x(), p.y(),
-                               drag.x(), drag.y(), double(sim_.stats().inserted), double(sim_.stats().removed),
-                               double(sim_.state().frozen_count())};
+    for (double v : {double(sim_.stats().inserted), double(sim_.stats().removed), double(sim_.state().frozen_count())})
+      row.push_back(v);
     sim_.reset_measurements();
     return row;
   }
@@ -190,14 +171,17 @@ public:
   double work() const override { return double(sim_.stats().collisions); }
   std::string work_unit() const override { return "collisions"; }
   std::vector<std::pair<std::string, double>> figures() const override {
-    return {{"obstacle_hits", obstacle_ ? double(obstacle_->hits()) : 0.0},
-            {"collisions", double(sim_.stats().collisions)},
-            {"events", double(sim_.stats().events)},
-            {"disks", double(sim_.count())},
-            {"disks_inserted", double(sim_.stats().inserted)},
-            {"disks_removed", double(sim_.stats().removed)},
-            {"area_fraction", sim_.area_fraction()}};
+    std::vector<std::pair<std::string, double>> f;
+    for (const auto& a : agents_) a->figures(f);
+    f.insert(f.end(), {{"collisions", double(sim_.stats().collisions)},
+                       {"events", double(sim_.stats().events)},
+                       {"disks", double(sim_.count())},
+                       {"disks_inserted", double(sim_.stats().inserted)},
+                       {"disks_removed", double(sim_.stats().removed)},
+                       {"area_fraction", sim_.area_fraction()}});
+    return f;
   }
+
 
   std::string state_digest() const override {
     // Each present disk as stored (position and velocity at its own clock, spin), in slot
@@ -215,41 +199,14 @@ public:
   }
 
 private:
-  // Open inlet/outlet along x (seed 003 §3.2–3.3), with the system's U, kT and density.
-  void add_stream_boundaries(const Scene& sc) {
-    const std::string kind = sc.get(keys::stream_kind);
-    const ed::Config& c = sim_.config();
-    const std::uint64_t seed = core::substream_seed(c.seed, 2);  // its own random streams
-    if (kind == "dispenser_filter") {
-      ed::DenseStreamConfig d;
-      d.U = c.stream.x();
-      d.kT = c.kT;
-      d.area_fraction = stream_area_fraction(sc, c);
-      d.filter_distance = sc.get(keys::filter_distance);
-      d.piston = sc.get(keys::piston) == "thermal" ? ed::PistonKind::thermal
-                                                                            : ed::PistonKind::elastic;
-      d.seed = seed;
-      dense_ = ed::add_dense_stream(sim_, d);
-    } else if (kind == "low_density") {
-      ed::LowDensityStreamConfig l;
-      l.U = c.stream.x();
-      l.kT = c.kT;
-      l.number_density = stream_area_fraction(sc, c) / (std::numbers::pi / 4.0);
-      l.seed = seed;
-      const double x_out = c.lx - 1.0;
-      sim_.remove_disks_unless([&](int i) { return sim_.disks()[i].x >= l.x_in && sim_.disks()[i].x <= x_out; });
-      ed::add_low_density_stream(sim_, l);
-    }
-  }
-
-  // Bins whose centre lies inside the obstacle, or beyond the outlet filter (frozen disks,
-  // not sampled), hold no gas: masked, not "empty" (seed 003 draws the obstacle over its
-  // fields).
+  // Bins an agent covers (inside the obstacle, beyond the outlet filter) hold no gas:
+  // masked, not "empty" (seed 003 draws the obstacle over its fields).
   void mask_solid_bins(render::Snapshot& s) const {
-    if (!obstacle_ && !dense_.filter) return;
+    if (agents_.empty()) return;
     auto solid = [&](const Vec2& p) {
-      if (obstacle_ && (p - obstacle_->config().centre).norm() < obstacle_->config().radius) return true;
-      return dense_.filter && p.x() > dense_.filter->plane();
+      for (const auto& a : agents_)
+        if (a->solid(p)) return true;
+      return false;
     };
     auto mask = [&](auto& field) {
       for (int iy = 0; iy < field.grid.ny; ++iy)
@@ -262,9 +219,7 @@ private:
 
   ed::Simulation sim_;
   ed::FieldSampler* sampler_ = nullptr;     // owned by sim_
-  ed::CircularObstacle* obstacle_ = nullptr;  // owned by sim_, when the scene has one
-  ed::DenseStream dense_;                      // agents owned by sim_, for dispenser_filter
-  Vec2 impulse_at_reset_ = Vec2::Zero();
+  std::vector<std::unique_ptr<EdAgentRun>> agents_;  // the table's agents the scene switched on
 };
 
 }  // namespace

@@ -1,0 +1,17 @@
+#include "scenes/src/engines/ed/ed_agents.hpp"
+
+#include <array>
+
+namespace grainflow::scenes {
+
+// Each agent's row, defined in its own file in agents/.
+EdAgentEntry obstacle_agent();
+EdAgentEntry stream_agent();
+
+std::span<const EdAgentEntry> ed_agents() {
+  // Attached in this order; the obstacle's key table precedes the stream's in scene.toml.
+  static const std::array<EdAgentEntry, 2> table = {obstacle_agent(), stream_agent()};
+  return table;
+}
+
+}  // namespace grainflow::scenes

@@ -1,0 +1,53 @@
+// The table of ED agents a scene can switch on (seed 003 §2.5: event sources besides the
+// disks): each row declares the keys its agent consumes and attaches the agent to the
+// simulation when the scene asks for it. What an attached agent adds to the run — shapes
+// drawn over the disks, field bins it covers, stats columns, run.json figures — goes
+// through EdAgentRun, so the runner knows no particular agent.
+// Adding an agent = the agent in engine/ed (a ParticleAgent or TimerAgent), one file in
+// engines/ed/agents/ (its keys and its attach), one row in ed_agents.cpp.
+#pragma once
+#include <memory>
+#include <span>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+#include "engine/core/vec.hpp"
+#include "render/snapshot.hpp"
+
+namespace grainflow::ed {
+class Simulation;
+}
+
+namespace grainflow::scenes {
+
+class Schema;
+class Scene;
+
+class EdAgentRun {
+public:
+  virtual ~EdAgentRun() = default;
+  // Shapes to draw over the disks (the obstacle).
+  virtual void draw(render::Snapshot& /*s*/) const {}
+  // True when the field bin centred at p holds no gas (inside a solid, beyond a filter):
+  // masked, not "empty".
+  virtual bool solid(const Vec2& /*p*/) const { return false; }
+  // stats.csv columns, and their values over the window of `duration` since the last row.
+  virtual std::vector<std::string> stats_columns() const { return {}; }
+  virtual void stats_row(double /*duration*/, std::vector<double>& /*row*/) {}
+  // Totals for run.json.
+  virtual void figures(std::vector<std::pair<std::string, double>>& /*out*/) const {}
+};
+
+struct EdAgentEntry {
+  std::string_view name;
+  std::string_view description;
+  void (*declare_keys)(Schema&);
+  // Attaches the agent when the scene asks for it; nullptr when it does not.
+  std::unique_ptr<EdAgentRun> (*attach)(const Scene&, ed::Simulation&);
+};
+
+std::span<const EdAgentEntry> ed_agents();
+
+}  // namespace grainflow::scenes
