@@ -9,45 +9,63 @@
 namespace grainflow::render {
 
 namespace {
-constexpr std::array<std::string_view, 6> kNames = {"particles", "density", "temperature",
-                                                    "speed",     "streamlines", "velocity"};
+
+PanelSpec field_panel(std::string field, std::optional<Colormap> colormap = std::nullopt) {
+  PanelSpec p;
+  p.kind = PanelKind::field;
+  p.field = field;
+  p.title = std::move(field);
+  p.colormap = colormap;
+  return p;
 }
+
+// The one table of panels: a scene's render.panels and `render --panels` take these
+// names. A new panel = one row (and, for a new kind of picture, a PanelKind).
+struct PanelRow {
+  std::string_view name;
+  PanelSpec (*make)();
+};
+constexpr PanelRow kPanels[] = {
+    {"particles", [] { return PanelSpec{}; }},
+    {"density", [] { return field_panel("density"); }},
+    {"temperature", [] { return field_panel("temperature", Colormap(ColormapId::inferno)); }},
+    {"speed", [] { return field_panel("speed"); }},
+    {"streamlines",
+     [] {
+       PanelSpec p;
+       p.kind = PanelKind::streamlines;
+       p.title = "streamlines";
+       return p;
+     }},
+    {"velocity",
+     [] {
+       PanelSpec p;
+       p.kind = PanelKind::velocity;
+       p.title = "velocity";
+       p.streamlines.quiver = true;
+       p.streamlines.colour_by_speed = true;
+       p.streamlines.width_px = 1.2f;
+       p.streamlines.arrow_px = 5.0f;
+       return p;
+     }},
+};
+
+const std::array<std::string_view, std::size(kPanels)> kNames = [] {
+  std::array<std::string_view, std::size(kPanels)> n;
+  for (std::size_t i = 0; i < n.size(); ++i) n[i] = kPanels[i].name;
+  return n;
+}();
+
+}  // namespace
 
 std::span<const std::string_view> panel_names() { return kNames; }
 
 PanelSpec panel_from_name(std::string_view name) {
-  PanelSpec p;
-  if (name == "particles") {
-    p.kind = PanelKind::particles;
-  } else if (name == "density") {
-    p.kind = PanelKind::field;
-    p.field = "density";
-    p.title = "density";
-  } else if (name == "temperature") {
-    p.kind = PanelKind::field;
-    p.field = "temperature";
-    p.title = "temperature";
-    p.colormap = Colormap(ColormapId::inferno);
-  } else if (name == "speed") {
-    p.kind = PanelKind::field;
-    p.field = "speed";
-    p.title = "speed";
-  } else if (name == "streamlines") {
-    p.kind = PanelKind::streamlines;
-    p.title = "streamlines";
-  } else if (name == "velocity") {
-    p.kind = PanelKind::velocity;
-    p.title = "velocity";
-    p.streamlines.quiver = true;
-    p.streamlines.colour_by_speed = true;
-    p.streamlines.width_px = 1.2f;
-    p.streamlines.arrow_px = 5.0f;
-  } else {
-    std::string allowed;
-    for (auto n : kNames) allowed += std::string(allowed.empty() ? "" : ", ") + std::string(n);
-    throw Error("panel '" + std::string(name) + "' is not known; allowed: " + allowed);
-  }
-  return p;
+  for (const auto& row : kPanels)
+    if (row.name == name) return row.make();
+  std::string allowed;
+  for (auto n : kNames) allowed += std::string(allowed.empty() ? "" : ", ") + std::string(n);
+  throw Error("panel '" + std::string(name) + "' is not known; allowed: " + allowed);
 }
 
 FrameLayout make_layout(int cols, int rows, std::span<const std::string> names) {

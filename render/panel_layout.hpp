@@ -36,7 +36,8 @@ struct PanelSpec {
   bool colour_bar = true;
 };
 
-// The panel names of the scene schema ([render] panels): "particles", "density",
+// The panel names, from the panel table in panel_layout.cpp (the scene schema's [render]
+// panels and `render --panels` take them): "particles", "density",
 // "temperature", "speed", "streamlines", "velocity".
 std::span<const std::string_view> panel_names();
 // A panel with its defaults; throws grainflow::Error naming the value and the allowed names.

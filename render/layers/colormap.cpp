@@ -10,8 +10,16 @@
 namespace grainflow::render {
 namespace {
 
-constexpr std::array<std::string_view, colormap_tables::kCount> kNames = {
-    "viridis", "inferno", "magma", "turbo", "cool-warm", "tab10"};
+// The names are the generated tables' own: one list, in ColormapId order. Built on first
+// use, after the tables (another translation unit) are initialised.
+const std::array<std::string_view, colormap_tables::kCount>& table_names() {
+  static const std::array<std::string_view, colormap_tables::kCount> n = [] {
+    std::array<std::string_view, colormap_tables::kCount> out;
+    for (int i = 0; i < colormap_tables::kCount; ++i) out[std::size_t(i)] = colormap_tables::all[i].name;
+    return out;
+  }();
+  return n;
+}
 
 const colormap_tables::Table& table(ColormapId id) { return colormap_tables::all[static_cast<int>(id)]; }
 
@@ -24,17 +32,18 @@ std::uint8_t to_byte(float v) {
 Colormap::Colormap(ColormapId id) : id_(id) {}
 
 Colormap Colormap::by_name(std::string_view name) {
-  for (std::size_t i = 0; i < kNames.size(); ++i)
-    if (name == kNames[i]) return Colormap(static_cast<ColormapId>(i));
+  const auto& names = table_names();
+  for (std::size_t i = 0; i < names.size(); ++i)
+    if (name == names[i]) return Colormap(static_cast<ColormapId>(i));
   if (name == "coolwarm") return Colormap(ColormapId::cool_warm);  // matplotlib's spelling
   std::string allowed;
-  for (const auto n : kNames) allowed += (allowed.empty() ? "" : ", ") + std::string(n);
+  for (const auto n : names) allowed += (allowed.empty() ? "" : ", ") + std::string(n);
   throw Error("unknown colour map '" + std::string(name) + "'; allowed: " + allowed);
 }
 
-std::span<const std::string_view> Colormap::names() { return kNames; }
+std::span<const std::string_view> Colormap::names() { return table_names(); }
 
-std::string_view Colormap::name() const { return kNames[static_cast<int>(id_)]; }
+std::string_view Colormap::name() const { return colormap_tables::all[static_cast<int>(id_)].name; }
 
 int Colormap::size() const { return table(id_).size; }
 
