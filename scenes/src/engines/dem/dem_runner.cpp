@@ -19,6 +19,7 @@
 #include "engine/dem/simulation.hpp"
 #include "engine/dem/pair_probe.hpp"
 #include "scenes/src/engines/dem/dem_keys.hpp"
+#include "scenes/src/engines/colour_attributes.hpp"
 #include "scenes/src/engines/engine_runner.hpp"
 #include "scenes/src/engines/engine_table.hpp"
 #include "scenes/src/outputs/run_record.hpp"
@@ -239,17 +240,8 @@ constexpr SphereAttribute kSphereAttributes[] = {
     {"height", [](const dem::Simulation& sim, std::size_t i) { return sim.position(i).z(); }},
 };
 
-std::vector<std::string> sphere_attribute_names() {
-  std::vector<std::string> names;
-  for (const auto& a : kSphereAttributes) names.emplace_back(a.name);
-  return names;
-}
-
-const SphereAttribute& sphere_attribute(std::string_view name) {
-  for (const auto& a : kSphereAttributes)
-    if (a.name == name) return a;
-  throw std::logic_error("DEM colour attribute '" + std::string(name) + "' passed validation but is not in the table");
-}
+std::vector<std::string> sphere_attribute_names() { return attribute_names<SphereAttribute>(kSphereAttributes); }
+const SphereAttribute& sphere_attribute(std::string_view name) { return find_attribute<SphereAttribute>(kSphereAttributes, name); }
 
 class DemRunner final : public EngineRunner {
 public:

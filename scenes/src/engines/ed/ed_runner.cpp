@@ -13,6 +13,7 @@
 #include "engine/ed/simulation.hpp"
 #include "scenes/src/engines/ed/ed_agents.hpp"
 #include "scenes/src/engines/ed/ed_keys.hpp"
+#include "scenes/src/engines/colour_attributes.hpp"
 #include "scenes/src/engines/engine_runner.hpp"
 #include "scenes/src/engines/engine_table.hpp"
 #include "scenes/src/engines/field_snapshot.hpp"
@@ -70,17 +71,8 @@ constexpr DiskAttribute kDiskAttributes[] = {
     {"height", [](const ed::Simulation&, std::size_t, const ed::Disk& d) { return d.y; }},
 };
 
-std::vector<std::string> disk_attribute_names() {
-  std::vector<std::string> names;
-  for (const auto& a : kDiskAttributes) names.emplace_back(a.name);
-  return names;
-}
-
-const DiskAttribute& disk_attribute(std::string_view name) {
-  for (const auto& a : kDiskAttributes)
-    if (a.name == name) return a;
-  throw std::logic_error("ED colour attribute '" + std::string(name) + "' passed validation but is not in the table");
-}
+std::vector<std::string> disk_attribute_names() { return attribute_names<DiskAttribute>(kDiskAttributes); }
+const DiskAttribute& disk_attribute(std::string_view name) { return find_attribute<DiskAttribute>(kDiskAttributes, name); }
 
 class EdRunner final : public EngineRunner {
 public:
