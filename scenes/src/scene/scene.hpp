@@ -1,6 +1,6 @@
 // A validated scene (SPEC.md §3b): every key of the schema with its value or default,
-// read through typed accessors such as scene.get<double>("sample.exposure").
-// load_scene() is the entry point for `grainflow run`: parse, apply --set, validate.
+// read through the key handles its consumers declared (scene.get(sample_keys::exposure)).
+// load_scene() parses, applies --set and validates against a SchemaCatalog.
 #pragma once
 #include <cstdint>
 #include <filesystem>
