@@ -52,6 +52,94 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
+// The [render] keys turned into a GL context, a renderer, a frame style and a layout.
+class FrameDrawing {
+public:
+  FrameDrawing(const Scene& scene, const render::FrameLayout& layout)
+      : layout_(layout),
+        colour_by_(scene.get(render_keys::color_by)),
+        fixed_range_(scene.find(render_keys::range)),
+        title_(scene.get(run_keys::title)),
+        exposure_(scene.get(sample_keys::exposure)) {
+    std::string notice;
+    ctx_ = render::create_context(render::parse_backend(scene.get(render_keys::backend)), &notice);
+    if (!notice.empty()) std::fprintf(stderr, "grainflow: %s\n", notice.c_str());
+    const auto size = scene.get(render_keys::size);
+    renderer_.emplace(*ctx_, size[0], size[1], scene.get(render_keys::msaa));
+    style_.background = parse_colour(scene.get(render_keys::background));
+    style_.colormap = render::Colormap::by_name(scene.get(render_keys::colormap));
+  }
+  const std::string& colour_by() const { return colour_by_; }
+  std::string backend() const { return ctx_->backend() + " (" + ctx_->gl_renderer() + ")"; }
+
+  // Adds the caption; the first frame with a colour attribute fixes the colour range for
+  // the whole video (render.range, or its own), so frames compare.
+  void prepare(render::Snapshot& s) {
+    if (!range_fixed_ && !s.attribute.empty()) {
+      style_.range = fixed_range_ ? std::make_pair((*fixed_range_)[0], (*fixed_range_)[1])
+                                  : render::finite_range(s.attribute);
+      range_fixed_ = true;
+    }
+    s.caption = caption(title_, exposure_, s);
+  }
+  const render::Image& draw(const render::Snapshot& s) { return renderer_->render(s, style_, layout_); }
+
+private:
+  render::FrameLayout layout_;
+  std::string colour_by_;
+  std::optional<std::array<double, 2>> fixed_range_;
+  std::string title_;
+  double exposure_;
+  std::unique_ptr<render::GlContext> ctx_;
+  std::optional<render::FrameRenderer> renderer_;
+  render::FrameStyle style_;
+  bool range_fixed_ = false;
+};
+
+// The outputs of one run: the output table's (image sinks encode on threads of their
+// own), then the engine's own files, before run.json, the table's last row, which
+// records them done.
+class RunOutputs {
+public:
+  RunOutputs(const OutputContext& ctx, EngineRunner& runner) {
+    std::vector<std::unique_ptr<render::FrameSink>> sinks;
+    for (const auto& o : outputs()) {
+      if (o.open_image) {
+        if (auto sink = o.open_image(ctx)) sinks.push_back(std::move(sink));
+      } else if (auto out = o.open_data(ctx)) {
+        data_.push_back(std::move(out));
+      }
+    }
+    for (auto& out : runner.open_outputs(ctx)) data_.insert(data_.end() - 1, std::move(out));
+    draws_ = !sinks.empty();
+    images_ = render::parallel_sinks(std::move(sinks));
+  }
+  // Whether any output takes pictures (else frames are not drawn at all).
+  bool draws() const { return draws_; }
+  void start(const RunRecord& r) {
+    for (auto& o : data_) o->start(r);
+  }
+  void frame(std::int64_t index, const render::Snapshot& s, const render::Image* image) {
+    if (image) images_->consume(*image, index, s.time);
+    for (auto& o : data_) o->frame(index, s);
+  }
+  void stats(double time, std::span<const double> row) {
+    for (auto& o : data_) o->stats(time, row);
+  }
+  void finish_images() { images_->finish(); }
+  void finish(const RunRecord& r) {
+    for (auto& o : data_) o->finish(r);
+  }
+  void fail(const RunRecord& r) {
+    for (auto& o : data_) o->fail(r);
+  }
+
+private:
+  std::vector<std::unique_ptr<RunOutput>> data_;
+  std::unique_ptr<render::FrameSink> images_;
+  bool draws_ = false;
+};
+
 }  // namespace
 
 int run_scene(const Scene& scene, const RunOptions& opt) {
@@ -66,39 +154,12 @@ int run_scene(const Scene& scene, const RunOptions& opt) {
 
   // Everything that can fail on configuration is set up before the first step.
   std::unique_ptr<EngineRunner> runner = engine->make_runner(scene);
-  std::string notice;
-  const std::string backend = scene.get(render_keys::backend);
-  auto ctx = render::create_context(render::parse_backend(backend), &notice);
-  if (!notice.empty()) std::fprintf(stderr, "grainflow: %s\n", notice.c_str());
-  const auto size = scene.get(render_keys::size);
-  render::FrameRenderer renderer(*ctx, size[0], size[1], scene.get(render_keys::msaa));
-  render::FrameStyle style;
-  style.background = parse_colour(scene.get(render_keys::background));
-  style.colormap = render::Colormap::by_name(scene.get(render_keys::colormap));
-  const std::string colour_by = scene.get(render_keys::color_by);
-  const std::optional<std::array<double, 2>> fixed_range = scene.find(render_keys::range);
-  const std::string title = scene.get(run_keys::title);
-
-  // The outputs: the table's, then the engine's own (DEM: pair.csv).
-  const OutputContext octx{scene, folder.dir(), opt.name, runner->stats_columns()};
-  std::vector<std::unique_ptr<render::FrameSink>> image_sinks;
-  std::vector<std::unique_ptr<RunOutput>> data;
-  for (const auto& o : outputs()) {
-    if (o.open_image) {
-      if (auto sink = o.open_image(octx)) image_sinks.push_back(std::move(sink));
-    } else if (auto out = o.open_data(octx)) {
-      data.push_back(std::move(out));
-    }
-  }
-  // The engine's files go before run.json, the table's last row, which records them done.
-  for (auto& out : runner->open_outputs(octx)) data.insert(data.end() - 1, std::move(out));
-  const bool draw = !image_sinks.empty();
-  const auto images = render::parallel_sinks(std::move(image_sinks));
-
+  FrameDrawing drawing(scene, layout);
+  RunOutputs out({scene, folder.dir(), opt.name, runner->stats_columns()}, *runner);
   RunRecord record = make_run_record(scene);
-  record.backend = ctx->backend() + " (" + ctx->gl_renderer() + ")";
+  record.backend = drawing.backend();
   record.status = RunStatus::Running;
-  for (auto& out : data) out->start(record);
+  out.start(record);
 
   const bool by_steps = scene.has(run_keys::steps);
   const double target = by_steps ? double(scene.get(run_keys::steps)) : scene.get(run_keys::until);
@@ -121,15 +182,9 @@ int run_scene(const Scene& scene, const RunOptions& opt) {
   double engine_seconds = 0;  // wall time inside the engine, for its own throughput
   const auto wall_start = std::chrono::steady_clock::now();
   auto emit_frame = [&] {
-    runner->snapshot(colour_by, snapshot);
-    // One colour range for the whole video (render.range, or the first frame's), so frames compare.
-    if (frame_index == 0 && !snapshot.attribute.empty())
-      style.range = fixed_range ? std::make_pair((*fixed_range)[0], (*fixed_range)[1])
-                                : render::finite_range(snapshot.attribute);
-    snapshot.caption = caption(title, exposure, snapshot);
-    if (draw) images->consume(renderer.render(snapshot, style, layout), frame_index, snapshot.time);
-    for (auto& out : data) out->frame(frame_index, snapshot);
-    ++frame_index;
+    runner->snapshot(drawing.colour_by(), snapshot);
+    drawing.prepare(snapshot);
+    out.frame(frame_index++, snapshot, out.draws() ? &drawing.draw(snapshot) : nullptr);
   };
   auto done = [&] { return by_steps ? double(runner->steps_done()) : runner->time(); };
 
@@ -154,8 +209,7 @@ int run_scene(const Scene& scene, const RunOptions& opt) {
       if (t >= next_stats() - eps) {
         // Rows carry their scheduled time when the engine stopped there up to round-off.
         const double row_time = std::abs(t - next_stats()) <= eps ? next_stats() : t;
-        const std::vector<double> row = runner->stats_row();
-        for (auto& out : data) out->stats(row_time, row);
+        out.stats(row_time, runner->stats_row());
         while (next_stats() <= t + eps) ++stats_due;
       }
       if (t >= next_frame() - eps) {
@@ -165,7 +219,7 @@ int run_scene(const Scene& scene, const RunOptions& opt) {
       progress.update(done(), runner->work());
     }
     progress.finish(done(), runner->work());
-    images->finish();
+    out.finish_images();
     const double wall = seconds_since(wall_start);
     record.status = status;
     record.wall_time_s = wall;
@@ -178,12 +232,12 @@ int run_scene(const Scene& scene, const RunOptions& opt) {
                          {"frames", double(frame_index) / wall, "frames/s"}};
     record.figures = runner->figures();
     record.state_digest = runner->state_digest();
-    for (auto& out : data) out->finish(record);
+    out.finish(record);
   } catch (const std::exception& e) {
     record.status = RunStatus::Failed;
     record.error = e.what();
     record.wall_time_s = seconds_since(wall_start);
-    for (auto& out : data) out->fail(record);
+    out.fail(record);
     throw;
   }
   if (!opt.quiet)
