@@ -228,6 +228,25 @@ TEST(CliRun, ChoicesTheRunCannotHonourAreRefusedBeforeTheFolderExists) {
   EXPECT_EQ(r.status, 0) << r.output;
 }
 
+// Frames are taken at exactly t0 + k·τ_E, after every event due then: a frame taken a
+// round-off before its time (slices of τ_E/20 summed) would miss the sampler's end of
+// exposure and show the previous exposure's fields again.
+TEST(CliRun, FramesAreTakenAtTheirExactTimes) {
+  const fs::path out = fresh_dir("run_frame_times");
+  const Result r = run("run " + scenes + "/disks_box.toml -o " + out.string() +
+                       " --set sample.exposure=8.0 --set run.until=80.0 --set output.particles=true"
+                       " --set output.mp4=false --set output.png=false --set render.size=[64,64]");
+  ASSERT_EQ(r.status, 0) << r.output;
+  std::ifstream in(out / "particles.xyz");
+  std::string line;
+  std::vector<std::string> times;
+  while (std::getline(in, line))
+    if (auto p = line.find(" Time="); p != std::string::npos)
+      times.push_back(line.substr(p + 6, line.find(' ', p + 6) - p - 6));
+  ASSERT_EQ(times.size(), 11u);
+  for (std::size_t k = 0; k < times.size(); ++k) EXPECT_EQ(times[k], std::to_string(8 * k)) << "frame " << k;
+}
+
 // Rows of a CSV file with a header: column name → values.
 std::map<std::string, std::vector<double>> read_csv(const fs::path& file) {
   std::map<std::string, std::vector<double>> cols;

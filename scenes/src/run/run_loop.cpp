@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <initializer_list>
 #include <memory>
 #include <optional>
 #include <string>
@@ -50,6 +51,17 @@ std::string caption(const std::string& title, double exposure, const render::Sna
 
 double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+// Where a slice that would end at `to` stops: at the first due time (frame, stats row,
+// end of run) it reaches, or comes within round-off of. Slices are summed, so `to` drifts
+// off t0 + k·interval; a frame taken 1e-14 before its time would miss the events due then
+// (the sampler closing its exposure) and show the previous exposure's fields.
+double slice_end(double to, std::initializer_list<double> due) {
+  std::optional<double> reached;
+  for (double t : due)
+    if (to >= t - 1e-9 * std::max(1.0, std::abs(t))) reached = reached ? std::min(*reached, t) : t;
+  return reached ? *reached : to;
 }
 
 // The [render] keys turned into a GL context, a renderer, a frame style and a layout.
@@ -202,7 +214,7 @@ int run_scene(const Scene& scene, const RunOptions& opt) {
       }
       const auto engine_start = std::chrono::steady_clock::now();
       if (by_steps) runner->advance_steps(std::min<std::uint64_t>(step_slice, std::uint64_t(target - done())));
-      else runner->advance_to(std::min({runner->time() + slice, next_frame(), next_stats(), target}));
+      else runner->advance_to(slice_end(runner->time() + slice, {next_frame(), next_stats(), target}));
       engine_seconds += seconds_since(engine_start);
       const double t = runner->time();
       const double eps = 1e-9 * std::max(1.0, std::abs(t));
