@@ -3,8 +3,9 @@
 // simulation when the scene asks for it. What an attached agent adds to the run — shapes
 // drawn over the disks, field bins it covers, stats columns, run.json figures — goes
 // through EdAgentRun, so the runner knows no particular agent.
-// Adding an agent = the agent in engine/ed (a ParticleAgent or TimerAgent), one file in
-// engines/ed/agents/ (its keys and its attach), one row in ed_agents.cpp.
+// Adding an agent: ARCHITECTURE.md, "an ED agent" (the agent and its test in engine/ed and
+// tests/ed, one file in engines/ed/agents/ for its keys and its attach, one row in
+// ed_agents.cpp, a case in tests/scenes/app_tables_test.cpp).
 #pragma once
 #include <memory>
 #include <span>
