@@ -37,8 +37,7 @@ struct PanelSpec {
 };
 
 // The panel names, from the panel table in panel_layout.cpp (the scene schema's [render]
-// panels and `render --panels` take them): "particles", "density",
-// "temperature", "speed", "streamlines", "velocity".
+// panels and `render --panels` take them).
 std::span<const std::string_view> panel_names();
 // A panel with its defaults; throws grainflow::Error naming the value and the allowed names.
 PanelSpec panel_from_name(std::string_view name);
