@@ -2,12 +2,10 @@
 // → ed::Config, frames of disks coloured by the attributes of kDiskAttributes, stats rows
 // from the engine's measurement window (seed 003 §4.1), and the engine's table row.
 #include <cmath>
-#include <numbers>
 #include <stdexcept>
 #include <string>
 
 #include "engine/core/error.hpp"
-#include "engine/core/rng.hpp"
 #include "engine/core/state_digest.hpp"
 #include "engine/ed/field_sampler.hpp"
 #include "engine/ed/simulation.hpp"
