@@ -193,6 +193,64 @@ TEST(CliRun, RefusesToOverwriteAPreviousRun) {
   EXPECT_EQ(run(args + " --force").status, 0);
 }
 
+void write_file(const fs::path& p, const std::string& text) {
+  fs::create_directories(p.parent_path());
+  std::ofstream(p) << text;
+}
+
+std::string read_file(const fs::path& p) {
+  std::ifstream in(p);
+  return {std::istreambuf_iterator<char>(in), {}};
+}
+
+// --force touches only what grainflow wrote: a folder of the user's own is refused as a
+// whole, and beside a previous run the user's files survive its replacement.
+TEST(CliRun, ForceKeepsTheUsersOwnFiles) {
+  const fs::path out = fresh_dir("run_users_folder");
+  for (const char* f : {"holiday.mp4", "frames/notes.txt", "scene.toml"}) write_file(out / f, "mine");
+  const std::string args = "run " + scenes + "/disks_box.toml -o " + out.string() +
+                           " --set system.box=[20.0,20.0] --set run.until=4.0 --set render.size=[64,64] --force";
+  const Result r = run(args);
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_TRUE(contains(r.output, "holds no grainflow run")) << r.output;
+  for (const char* f : {"holiday.mp4", "frames/notes.txt", "scene.toml"}) EXPECT_EQ(read_file(out / f), "mine") << f;
+
+  // A previous run with the user's files put beside it.
+  const fs::path run_dir = fresh_dir("run_beside_users");
+  ASSERT_EQ(run("run " + scenes + "/disks_box.toml -o " + run_dir.string() +
+                " --set system.box=[20.0,20.0] --set run.until=8.0 --set render.size=[64,64]")
+                .status,
+            0);
+  EXPECT_TRUE(fs::exists(run_dir / "frames/frame_000004.png"));
+  for (const char* f : {"holiday.mp4", "frames/notes.txt"}) write_file(run_dir / f, "mine");
+  const Result again = run("run " + scenes + "/disks_box.toml -o " + run_dir.string() +
+                           " --set system.box=[20.0,20.0] --set run.until=2.0 --set render.size=[64,64] --force");
+  ASSERT_EQ(again.status, 0) << again.output;
+  for (const char* f : {"holiday.mp4", "frames/notes.txt"}) EXPECT_EQ(read_file(run_dir / f), "mine") << f;
+  EXPECT_TRUE(fs::exists(run_dir / "frames/frame_000001.png"));  // τ_E = 2: frames 0, 1
+  EXPECT_FALSE(fs::exists(run_dir / "frames/frame_000004.png"));  // the previous run's, removed
+  EXPECT_TRUE(fs::exists(run_dir / "disks_box.mp4"));
+}
+
+// A start that fails (the engine's set-up, an output option) leaves no folder behind, so
+// the corrected command is not refused.
+TEST(CliRun, FailedStartLeavesNoFolder) {
+  const fs::path out = fresh_dir("run_failed_start");
+  const Result r = run("run " + scenes + "/dem_freefall_box.toml -o " + out.string() +
+                       " --set system.box=[0.004,0.004,0.004] --set system.initial.kind=lattice");
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_TRUE(contains(r.output, "lattice")) << r.output;
+  EXPECT_FALSE(fs::exists(out));
+  const fs::path render_out = fresh_dir("render_failed_start");
+  const Result rr = run("render " + data + "/particles/plain_two_frames.xyz -o " + render_out.string() +
+                        " --size 64 48 --preset sloth");
+  EXPECT_EQ(rr.status, 2) << rr.output;
+  EXPECT_TRUE(contains(rr.output, "preset")) << rr.output;
+  EXPECT_FALSE(fs::exists(render_out));
+  EXPECT_EQ(run("render " + data + "/particles/plain_two_frames.xyz -o " + render_out.string() + " --size 64 48").status,
+            0);
+}
+
 TEST(CliRun, BadSceneStopsBeforeTheRunWithKeyAndValue) {
   const fs::path out = fresh_dir("run_bad");
   const Result r = run("run " + scenes + "/disks_box.toml -o " + out.string() +

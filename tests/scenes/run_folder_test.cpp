@@ -8,6 +8,7 @@
 
 #include "engine/core/error.hpp"
 #include "scenes/src/outputs/json_writer.hpp"
+#include "scenes/src/outputs/run_output.hpp"
 #include "scenes/src/run/run_folder.hpp"
 #include "scenes/src/outputs/run_record.hpp"
 #include "scenes/src/run/scene_catalog.hpp"
@@ -50,10 +51,11 @@ TEST(RunFolder, CreatesFolderAndFrames) {
   EXPECT_TRUE(fs::is_directory(d / "frames"));
   EXPECT_EQ(f.file("stats.csv"), d / "stats.csv");
   EXPECT_EQ(f.frames_dir(), d / "frames");
-  // Only frames/ is left: the write probe is removed.
+  // Only frames/ and the (empty) file list are left: the write probe is removed.
   std::size_t n = 0;
   for ([[maybe_unused]] const auto& e : fs::directory_iterator(d)) ++n;
-  EXPECT_EQ(n, 1u);
+  EXPECT_EQ(n, 2u);
+  EXPECT_TRUE(fs::exists(d / RunFolder::kManifest));
   // An existing empty folder is fine.
   const fs::path e = fresh("empty");
   fs::create_directories(e);
@@ -70,11 +72,62 @@ TEST(RunFolder, RefusesNonEmptyFolderWithoutForce) {
   EXPECT_NE(msg.find("run folder '" + d.string() + "' is not empty"), std::string::npos) << msg;
   EXPECT_NE(msg.find("--force"), std::string::npos) << msg;
   EXPECT_TRUE(fs::exists(d / "stats.csv"));  // nothing touched
+}
 
+// --force into a folder that no grainflow run wrote removes nothing and says why.
+TEST(RunFolder, ForceRefusesAFolderHoldingNoGrainflowRun) {
+  const fs::path d = fresh("users_own");
+  fs::create_directories(d / "frames");
+  touch(d / "holiday.mp4", "mine");
+  touch(d / "frames" / "notes.txt", "mine");
+  touch(d / "scene.toml", "mine");
+  const std::string msg = error_of(d, RunFolderMode::Force);
+  EXPECT_NE(msg.find("holds no grainflow run"), std::string::npos) << msg;
+  for (const char* f : {"holiday.mp4", "frames/notes.txt", "scene.toml"}) EXPECT_EQ(slurp(d / f), "mine") << f;
+}
+
+// --force removes exactly what the previous run claimed (with its temporaries), and
+// every file a user put beside it survives.
+TEST(RunFolder, ForceRemovesExactlyWhatThePreviousRunClaimed) {
+  const fs::path d = fresh("previous");
+  {
+    RunFolder f = RunFolder::open(d, RunFolderMode::Fresh);
+    for (const char* c : {"scene.toml", "run.json", "stats.csv", "run.mp4"}) f.claim(c);
+    f.claim(kFrameFiles);
+  }
+  for (const char* mine : {"run.json", "scene.toml", "stats.csv.partial", "run.mp4.tmp-123-4", "frames/frame_000000.png",
+                           "frames/frame_000001.png", "frames/frame_1000000.png"})
+    touch(d / mine);
+  for (const char* user : {"holiday.mp4", "frames/notes.txt", "frames/000001.png", "frames/frame_12.png", "run.mp4.bak"})
+    touch(d / user, "mine");
   RunFolder::open(d, RunFolderMode::Force);
-  EXPECT_FALSE(fs::exists(d / "stats.csv"));
-  EXPECT_FALSE(fs::exists(d / "frames" / "000001.png"));
-  EXPECT_EQ(slurp(d / "notes.txt"), "keep me");  // not ours: kept
+  for (const char* mine : {"run.json", "scene.toml", "stats.csv.partial", "run.mp4.tmp-123-4", "frames/frame_000000.png",
+                           "frames/frame_000001.png", "frames/frame_1000000.png"})
+    EXPECT_FALSE(fs::exists(d / mine)) << mine;
+  for (const char* user : {"holiday.mp4", "frames/notes.txt", "frames/000001.png", "frames/frame_12.png", "run.mp4.bak"})
+    EXPECT_EQ(slurp(d / user), "mine") << user;
+}
+
+// The file list is read back from disk: a name outside the folder is refused, nothing removed.
+TEST(RunFolder, ForceDistrustsTheFileList) {
+  const fs::path d = fresh("forged");
+  fs::create_directories(d);
+  touch(d / "keep.txt", "mine");
+  touch(d / std::string(RunFolder::kManifest), "# forged\n../keep_outside.txt\nkeep.txt\n");
+  const std::string msg = error_of(d, RunFolderMode::Force);
+  EXPECT_NE(msg.find("not a grainflow file list"), std::string::npos) << msg;
+  EXPECT_EQ(slurp(d / "keep.txt"), "mine");
+}
+
+// A start that fails leaves no trace: a folder it created is gone again.
+TEST(RunFolder, AbandonRemovesWhatTheFailedStartMade) {
+  const fs::path d = fresh("abandoned") / "run";
+  RunFolder f = RunFolder::open(d, RunFolderMode::Fresh);
+  f.claim("stats.csv");
+  touch(d / "stats.csv.partial");
+  f.abandon();
+  EXPECT_FALSE(fs::exists(d));
+  EXPECT_TRUE(fs::exists(d.parent_path()));  // not created by this open: kept
 }
 
 TEST(RunFolder, UnwritableOrInvalidPath) {

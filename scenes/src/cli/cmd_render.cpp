@@ -20,6 +20,7 @@
 #include "render/frame_renderer.hpp"
 #include "render/output/fan_out_sink.hpp"
 #include "render/output/mp4_sink.hpp"
+#include "render/output/mp4_writer.hpp"
 #include "render/output/png_sequence_sink.hpp"
 #include "render/panel_layout.hpp"
 #include "scenes/src/cli/commands.hpp"
@@ -104,39 +105,53 @@ int run_render(const RenderArgs& a) {
   core::ParticleFrame frame;
   if (!reader->next(frame)) throw Error("'" + a.input + "' holds no frame");
 
-  // Option values are checked before anything is created on disk.
+  // Option values, the colour attribute and the GL context are checked before anything is
+  // created on disk.
   const render::Colormap colormap = render::Colormap::by_name(a.colormap);
   const render::Backend backend = render::parse_backend(a.backend);
-  // The same folder rules as `grainflow run`: a folder holding earlier output is not
-  // overwritten without --force, and an unwritable one fails before the first frame.
-  const RunFolder folder = RunFolder::open(a.out_dir, a.force ? RunFolderMode::Force : RunFolderMode::Fresh);
-  const fs::path dir = folder.dir();
   const std::string attribute = a.colour_by.empty() ? default_colour_attribute(frame) : a.colour_by;
-
+  render::Snapshot snapshot;
+  to_snapshot(frame, attribute, snapshot);  // throws naming the file's columns
+  const std::string stem = fs::path(a.input).stem().string();
+  render::Mp4Options opt;
+  opt.fps = a.fps;
+  opt.crf = a.crf;
+  opt.preset = a.preset;
+  if (a.mp4) render::check_mp4_options(stem + ".mp4", opt);
   std::string notice;
   auto ctx = render::create_context(backend, &notice);
   if (!notice.empty()) std::fprintf(stderr, "grainflow: %s\n", notice.c_str());
   const int msaa = a.msaa >= 0 ? a.msaa : (frame.dim == 3 ? 4 : 0);
   render::FrameRenderer renderer(*ctx, a.size[0], a.size[1], msaa);
 
-  std::vector<std::unique_ptr<render::FrameSink>> sinks;
-  if (a.png) sinks.push_back(std::make_unique<render::PngSequenceSink>(dir / "frames"));
-  const fs::path mp4_path = dir / (fs::path(a.input).stem().string() + ".mp4");
-  if (a.mp4) {
-    render::Mp4Options opt;
-    opt.fps = a.fps;
-    opt.crf = a.crf;
-    opt.preset = a.preset;
-    sinks.push_back(std::make_unique<render::Mp4Sink>(mp4_path, opt));
+  // The same folder rules as `grainflow run`: a folder holding earlier output is not
+  // overwritten without --force (which removes only what grainflow wrote there), and an
+  // unwritable one fails before the first frame.
+  RunFolder folder = RunFolder::open(a.out_dir, a.force ? RunFolderMode::Force : RunFolderMode::Fresh);
+  const fs::path dir = folder.dir();
+  const fs::path mp4_path = dir / (stem + ".mp4");
+  std::unique_ptr<render::FrameSink> output;
+  try {
+    std::vector<std::unique_ptr<render::FrameSink>> sinks;
+    if (a.png) {
+      folder.claim(kFrameFiles);
+      sinks.push_back(std::make_unique<render::PngSequenceSink>(dir / "frames"));
+    }
+    if (a.mp4) {
+      folder.claim(stem + ".mp4");
+      sinks.push_back(std::make_unique<render::Mp4Sink>(mp4_path, opt));
+    }
+    output = render::parallel_sinks(std::move(sinks));
+  } catch (...) {
+    folder.abandon();  // a failed start leaves the folder as it was
+    throw;
   }
-  const auto output = render::parallel_sinks(std::move(sinks));
 
   render::FrameStyle style;
   style.colormap = colormap;
   style.camera.azimuth_deg = a.azimuth;
   style.camera.elevation_deg = a.elevation;
   style.camera.orthographic = a.orthographic;
-  render::Snapshot snapshot;
   // The camera and the colour range stay fixed for the whole video, taken from the first
   // frame (or --range), so frames can be compared with one another.
   Eigen::Vector3d lo, hi;

@@ -20,6 +20,7 @@ void declare_png(Schema& s) { s.table("output").add_bool(png, true, "write frame
 
 std::unique_ptr<render::FrameSink> open_png(const OutputContext& c) {
   if (!c.scene.get(png)) return nullptr;
+  c.claim(kFrameFiles);
   return std::make_unique<render::PngSequenceSink>(c.dir / "frames");
 }
 
@@ -34,6 +35,7 @@ void declare_mp4(Schema& s) {
 
 std::unique_ptr<render::FrameSink> open_mp4(const OutputContext& c) {
   if (!c.scene.get(mp4)) return nullptr;
+  c.claim(c.name + ".mp4");
   render::Mp4Options opt;
   opt.fps = int(c.scene.get(fps));
   opt.crf = int(c.scene.get(crf));

@@ -52,6 +52,7 @@ void declare(Schema& s) {
 
 std::unique_ptr<RunOutput> open(const OutputContext& c) {
   if (!c.scene.get(particles)) return nullptr;
+  c.claim("particles.xyz");
   return std::make_unique<ParticlesOutput>(c.dir / "particles.xyz");
 }
 

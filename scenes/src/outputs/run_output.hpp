@@ -5,8 +5,10 @@
 #pragma once
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "render/snapshot.hpp"
@@ -16,12 +18,19 @@ namespace grainflow::scenes {
 class Scene;
 struct RunRecord;
 
+// The claim of the frame sequence: every frames/frame_NNNNNN.png (6 or more digits, as
+// render::PngSequenceSink names them).
+inline constexpr std::string_view kFrameFiles = "frames/frame_*.png";
+
 // What an output is opened with.
 struct OutputContext {
   const Scene& scene;
   std::filesystem::path dir;                // the run folder
   std::string name;                         // the scene file's stem: DIR/<name>.mp4
   std::vector<std::string> stats_columns;   // after `time`, as the engine names them
+  // Every file an output writes in DIR is claimed first (relative name, or kFrameFiles),
+  // so that --force later removes exactly what grainflow wrote (run/run_folder.hpp).
+  std::function<void(std::string_view)> claim;
 };
 
 class RunOutput {

@@ -117,6 +117,7 @@ private:
 void declare_nothing(Schema&) {}
 
 std::unique_ptr<RunOutput> open_run_json(const OutputContext& c) {
+  c.claim("run.json");
   return std::make_unique<RunJsonOutput>(c.dir / "run.json");
 }
 

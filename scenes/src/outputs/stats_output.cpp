@@ -23,6 +23,7 @@ void declare(Schema& s) {
 }
 
 std::unique_ptr<RunOutput> open(const OutputContext& c) {
+  c.claim("stats.csv");
   return std::make_unique<StatsOutput>(c.dir / "stats.csv", c.stats_columns);
 }
 

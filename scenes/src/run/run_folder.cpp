@@ -1,18 +1,15 @@
 #include "scenes/src/run/run_folder.hpp"
 
+#include <fstream>
+#include <regex>
 #include <system_error>
 
-#include "engine/io/atomic_file.hpp"
 #include "engine/core/error.hpp"
+#include "engine/io/atomic_file.hpp"
 
 namespace grainflow::scenes {
 
 namespace fs = std::filesystem;
-
-const std::vector<std::string_view>& RunFolder::result_files() {
-  static const std::vector<std::string_view> names = {"scene.toml", "run.json", "stats.csv", "stats.csv.partial"};
-  return names;
-}
 
 namespace {
 
@@ -30,16 +27,49 @@ std::string listing(const fs::path& dir) {
   return s;
 }
 
-void remove_previous_results(const fs::path& dir) {
+// A claim names a file in DIR or one folder below it, never outside: the manifest is
+// read back from disk and distrusted like any input.
+bool valid_claim(std::string_view name) {
+  static const std::regex ok(R"(^[A-Za-z0-9_][A-Za-z0-9._-]*(/[A-Za-z0-9_][A-Za-z0-9._*-]*)?$)");
+  return name.size() < 256 && std::regex_match(name.begin(), name.end(), ok) &&
+         name.find("..") == std::string_view::npos;
+}
+
+// Removes a claimed file with what its writers leave beside it: `<name>.partial`
+// (stats.csv while running) and AtomicFile temporaries `<name>.tmp-<pid>-<n>`.
+void remove_claimed(const fs::path& dir, const std::string& name) {
   std::error_code ec;
-  for (auto name : RunFolder::result_files()) fs::remove(dir / fs::path(name), ec);
-  for (const auto& e : fs::directory_iterator(dir, ec)) {
-    if (e.path().extension() == ".mp4" && e.is_regular_file(ec)) fs::remove(e.path(), ec);
+  if (name == kFrameFiles) {
+    static const std::regex frame(R"(^frame_[0-9]{6,}\.png(\.tmp-[0-9]+-[0-9]+)?$)");
+    for (const auto& e : fs::directory_iterator(dir / "frames", ec))
+      if (e.is_regular_file(ec) && std::regex_match(e.path().filename().string(), frame)) fs::remove(e.path(), ec);
+    return;
   }
-  const fs::path frames = dir / "frames";
-  if (fs::is_directory(frames, ec))
-    for (const auto& e : fs::directory_iterator(frames, ec))
-      if (e.is_regular_file(ec)) fs::remove(e.path(), ec);
+  const fs::path p = dir / name;
+  fs::remove(p, ec);
+  fs::path partial = p;
+  partial += ".partial";
+  fs::remove(partial, ec);
+  const std::string tmp_prefix = p.filename().string() + ".tmp-";
+  for (const auto& e : fs::directory_iterator(p.parent_path(), ec))
+    if (e.is_regular_file(ec) && e.path().filename().string().rfind(tmp_prefix, 0) == 0) fs::remove(e.path(), ec);
+}
+
+// The claims of the previous run in DIR: the names its manifest lists. Throws when the
+// manifest is unreadable or lists a name outside DIR.
+std::vector<std::string> read_manifest(const fs::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw Error("cannot read '" + file.string() + "'");
+  std::vector<std::string> names;
+  std::string line;
+  while (std::getline(in, line)) {
+    if (line.empty() || line[0] == '#') continue;
+    if (!valid_claim(line) || names.size() > 1000)
+      throw Error("'" + file.string() + "' is not a grainflow file list (it names '" + line.substr(0, 80) +
+                  "'); nothing was removed; allowed: remove the folder's contents yourself or choose another folder");
+    names.push_back(line);
+  }
+  return names;
 }
 
 }  // namespace
@@ -52,6 +82,7 @@ RunFolder RunFolder::open(const fs::path& dir, RunFolderMode mode) {
   if (exists && !fs::is_directory(st))
     throw Error("run folder '" + dir.string() + "' exists and is not a directory; allowed: a new or empty directory");
 
+  RunFolder folder(dir);
   if (exists) {
     const bool empty = fs::is_empty(dir, ec);
     if (ec) throw Error("cannot read run folder '" + dir.string() + "': " + ec.message());
@@ -61,7 +92,15 @@ RunFolder RunFolder::open(const fs::path& dir, RunFolderMode mode) {
           throw Error("run folder '" + dir.string() + "' is not empty (holds " + listing(dir) +
                       "); allowed: a new or empty folder, or --force to replace the previous run's output");
         break;
-      case RunFolderMode::Force: remove_previous_results(dir); break;
+      case RunFolderMode::Force:
+        if (empty) break;
+        if (!fs::exists(dir / kManifest, ec))
+          throw Error("run folder '" + dir.string() + "' holds no grainflow run (no " + std::string(kManifest) +
+                      "; it holds " + listing(dir) + "), so --force removes nothing there; allowed: a new or empty "
+                      "folder, or one a grainflow run or render wrote");
+        for (const auto& name : read_manifest(dir / kManifest)) remove_claimed(dir, name);
+        fs::remove(dir / kManifest, ec);
+        break;
       case RunFolderMode::Resume:
         if (!fs::exists(dir / "run.json", ec))
           throw Error("cannot resume in '" + dir.string() + "': it holds no run.json from a previous run");
@@ -71,6 +110,8 @@ RunFolder RunFolder::open(const fs::path& dir, RunFolderMode mode) {
     throw Error("cannot resume in '" + dir.string() + "': no such folder");
   }
 
+  folder.created_dir_ = !exists;
+  folder.created_frames_ = !fs::exists(dir / "frames", ec);
   fs::create_directories(dir / "frames", ec);
   if (ec) throw Error("cannot create run folder '" + (dir / "frames").string() + "': " + ec.message());
   // An existing folder may still be read-only; find out now, not after hours of simulation.
@@ -78,9 +119,40 @@ RunFolder RunFolder::open(const fs::path& dir, RunFolderMode mode) {
     io::AtomicFile probe(dir / ".grainflow-write-test");
     probe.abort();
   } catch (const Error& e) {
+    folder.abandon();
     throw Error("run folder '" + dir.string() + "' is not writable (" + e.what() + ")");
   }
-  return RunFolder(dir);
+  if (mode != RunFolderMode::Resume) folder.write_manifest();
+  return folder;
+}
+
+void RunFolder::claim(std::string_view name) {
+  if (!valid_claim(name)) throw std::logic_error("RunFolder::claim: '" + std::string(name) + "' is outside the folder");
+  for (const auto& c : claimed_)
+    if (c == name) return;
+  claimed_.emplace_back(name);
+  write_manifest();
+}
+
+void RunFolder::write_manifest() const {
+  io::AtomicFile file(dir_ / kManifest);
+  {
+    std::ofstream out(file.path(), std::ios::binary | std::ios::trunc);
+    out << "# Files grainflow wrote in this folder; --force removes exactly these (and their temporaries).\n";
+    for (const auto& c : claimed_) out << c << "\n";
+    out.flush();
+    if (!out) throw Error("cannot write '" + (dir_ / kManifest).string() + "': write failed (disk full?)");
+  }
+  file.commit();
+}
+
+void RunFolder::abandon() noexcept {
+  std::error_code ec;
+  for (const auto& name : claimed_) remove_claimed(dir_, name);
+  claimed_.clear();
+  fs::remove(dir_ / kManifest, ec);
+  if (created_frames_) fs::remove(dir_ / "frames", ec);  // only when empty
+  if (created_dir_) fs::remove(dir_, ec);
 }
 
 }  // namespace grainflow::scenes

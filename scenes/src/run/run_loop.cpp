@@ -161,17 +161,29 @@ int run_scene(const Scene& scene, const RunOptions& opt) {
   const EngineEntry* engine = find_engine(scene.engine());
   if (!engine) throw Error("unknown engine '" + scene.engine() + "'");
 
-  const RunFolder folder = RunFolder::open(opt.dir, opt.force ? RunFolderMode::Force : RunFolderMode::Fresh);
-  write_effective_scene(scene, folder.file("scene.toml"));
-
-  // Everything that can fail on configuration is set up before the first step.
+  // Everything that can fail on configuration is set up before the folder is touched.
   std::unique_ptr<EngineRunner> runner = engine->make_runner(scene);
   FrameDrawing drawing(scene, layout);
-  RunOutputs out({scene, folder.dir(), opt.name, runner->stats_columns()}, *runner);
+
+  RunFolder folder = RunFolder::open(opt.dir, opt.force ? RunFolderMode::Force : RunFolderMode::Fresh);
+  std::optional<RunOutputs> outputs_opened;
   RunRecord record = make_run_record(scene);
-  record.backend = drawing.backend();
-  record.status = RunStatus::Running;
-  out.start(record);
+  try {
+    folder.claim("scene.toml");
+    write_effective_scene(scene, folder.file("scene.toml"));
+    outputs_opened.emplace(OutputContext{scene, folder.dir(), opt.name, runner->stats_columns(),
+                                         [&folder](std::string_view name) { folder.claim(name); }},
+                           *runner);
+    record.backend = drawing.backend();
+    record.status = RunStatus::Running;
+    outputs_opened->start(record);
+  } catch (...) {
+    // A failed start leaves no trace of this run: its files, and the folder if it was new.
+    outputs_opened.reset();
+    folder.abandon();
+    throw;
+  }
+  RunOutputs& out = *outputs_opened;
 
   const bool by_steps = scene.has(run_keys::steps);
   const double target = by_steps ? double(scene.get(run_keys::steps)) : scene.get(run_keys::until);

@@ -258,6 +258,7 @@ public:
     if (!scene_.get(keys::pair_csv)) return out;
     if (sim_.size() < 2)
       throw Error("output.pair_csv = true needs at least 2 particles; the scene has " + std::to_string(sim_.size()));
+    context.claim("pair.csv");
     auto probe = std::make_unique<PairProbe>(context.dir / "pair.csv");
     pair_ = probe.get();
     pair_->record(sim_);
