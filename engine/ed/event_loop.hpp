@@ -26,6 +26,10 @@ public:
   virtual void start() = 0;
   // Processes every event with time ≤ t, then sets the clock to t.
   virtual void run_until(double t) = 0;
+  // The same, but stops after `max_events` events (the clock then stays at the last
+  // event's time): a caller that must stay responsive (Ctrl-C, a collapsing inelastic
+  // system whose clock stops advancing) gets control back. True when t was reached.
+  virtual bool run_until(double t, std::uint64_t max_events) = 0;
   // Processes n events (any kind; stale ones included) or fewer if nothing is scheduled.
   virtual std::uint64_t advance(std::uint64_t n) = 0;
   virtual double next_event_time() = 0;
@@ -59,6 +63,19 @@ public:
       process(e);
     }
     s_.advance_clock(t);
+  }
+
+  bool run_until(double t, std::uint64_t max_events) override {
+    settle_outside_actions();
+    for (std::uint64_t k = 0; k < max_events; ++k) {
+      const int e = cal_.top();
+      if (e < 0 || s_.event[e].key > t) {
+        s_.advance_clock(t);
+        return true;
+      }
+      process(e);
+    }
+    return false;
   }
 
   std::uint64_t advance(std::uint64_t n) override {

@@ -209,6 +209,12 @@ void Simulation::run_until(double t) {
   loop_->run_until(t);
 }
 
+bool Simulation::run_until(double t, std::uint64_t max_events) {
+  if (t < s_.now())
+    throw Error(fmt::format("ed: run_until({}) is before the current time {}", t, s_.now()));
+  return loop_->run_until(t, max_events);
+}
+
 std::uint64_t Simulation::advance(std::uint64_t events) { return loop_->advance(events); }
 
 void Simulation::synchronise() {

@@ -55,6 +55,8 @@ public:
   Simulation& operator=(const Simulation&) = delete;
 
   void run_until(double t);                    // all events with time ≤ t, clock ends at t
+  // At most max_events of them; true when t was reached (else the clock is at the last event).
+  bool run_until(double t, std::uint64_t max_events);
   std::uint64_t advance(std::uint64_t events);  // exactly that many events (fewer if none)
   // Brings every disk to the current time (needed before drawing or reading positions).
   void synchronise();

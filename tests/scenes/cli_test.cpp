@@ -13,6 +13,13 @@
 #include <string>
 #include <vector>
 
+#include <chrono>
+#include <csignal>
+#include <thread>
+
+#include <sys/wait.h>
+#include <unistd.h>
+
 #include "render/image/image.hpp"
 #include "render/output/png_io.hpp"
 
@@ -249,6 +256,42 @@ TEST(CliRun, FailedStartLeavesNoFolder) {
   EXPECT_FALSE(fs::exists(render_out));
   EXPECT_EQ(run("render " + data + "/particles/plain_two_frames.xyz -o " + render_out.string() + " --size 64 48").status,
             0);
+}
+
+// SIGTERM is honoured within a second even inside an engine slice: an inelastic box
+// (e = 0.5) collapses after t ≈ 52 — its clock stops while collisions go on — and used to
+// ignore the signal for minutes. It stops as "interrupted" with its outputs in place.
+TEST(CliRun, SigtermStopsACollapsingRunWithinASecond) {
+  const fs::path out = fresh_dir("run_collapse");
+  const pid_t pid = fork();
+  ASSERT_GE(pid, 0);
+  if (pid == 0) {
+    const std::string dir = out.string();
+    std::freopen("/dev/null", "w", stdout);
+    std::freopen("/dev/null", "w", stderr);
+    execl(GRAINFLOW_EXE, GRAINFLOW_EXE, "run", (scenes + "/disks_box.toml").c_str(), "-o", dir.c_str(), "--set",
+          "system.e=0.5", "--set", "run.until=1e6", "--set", "render.size=[64,64]", static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  std::this_thread::sleep_for(std::chrono::seconds(4));  // collapsed by then (t stalls near 52)
+  const auto t0 = std::chrono::steady_clock::now();
+  kill(pid, SIGTERM);
+  int status = 0;
+  while (waitpid(pid, &status, WNOHANG) == 0) {
+    if (std::chrono::steady_clock::now() - t0 > std::chrono::seconds(10)) {
+      kill(pid, SIGKILL);
+      waitpid(pid, &status, 0);
+      FAIL() << "no exit within 10 s of SIGTERM";
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  EXPECT_LT(seconds, 1.5);
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 130);
+  EXPECT_TRUE(contains(read_file(out / "run.json"), "\"status\": \"interrupted\""));
+  EXPECT_TRUE(fs::exists(out / "stats.csv"));
+  EXPECT_TRUE(fs::exists(out / "disks_box.mp4"));
 }
 
 TEST(CliRun, BadSceneStopsBeforeTheRunWithKeyAndValue) {

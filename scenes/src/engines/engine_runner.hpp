@@ -20,8 +20,10 @@ public:
   virtual ~EngineRunner() = default;
 
   virtual double time() const = 0;
-  // Runs until simulated time t (events/steps up to t; the clock ends at t or at the
-  // last step not past it).
+  // Runs toward simulated time t (events/steps up to t; the clock ends at t or at the
+  // last step not past it), but returns earlier after a bounded amount of work (a fraction
+  // of a second), so that the run loop answers Ctrl-C and SIGTERM even when the clock
+  // barely moves (a collapsing inelastic system); time() says how far it got.
   virtual void advance_to(double t) = 0;
   // Runs `n` units of the engine's own work count (ED: events, DEM: steps).
   virtual void advance_steps(std::uint64_t n) = 0;

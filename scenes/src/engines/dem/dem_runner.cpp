@@ -269,11 +269,14 @@ public:
   double time() const override { return sim_.time(); }
   void advance_to(double t) override {
     // Whole steps only: stop at the last step not past t (at least one step), sampling
-    // the fields on the way.
-    while (true) {
+    // the fields on the way; after ~10^7 particle-steps (≈ 0.3 s) control goes back to
+    // the run loop.
+    const std::uint64_t budget = std::max<std::uint64_t>(1, 10'000'000 / std::max<std::size_t>(1, sim_.size()));
+    const std::uint64_t start = sim_.steps();
+    while (sim_.steps() - start < budget) {
       const double until = std::min(t, next_sample_);
       const double steps = std::floor((until - sim_.time()) / sim_.dt() + 1e-9);
-      step(std::uint64_t(std::max(1.0, steps)));
+      step(std::min(std::uint64_t(std::max(1.0, steps)), budget - (sim_.steps() - start)));
       if (sim_.time() >= next_sample_ - 0.5 * sim_.dt()) {
         dem::sample_fields(sim_, fields_);
         next_sample_ += sample_every_;
