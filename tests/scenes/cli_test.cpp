@@ -294,6 +294,49 @@ TEST(CliRun, SigtermStopsACollapsingRunWithinASecond) {
   EXPECT_TRUE(fs::exists(out / "disks_box.mp4"));
 }
 
+// What a scene may ask of the machine is bounded at validation, with the estimate.
+TEST(CliRun, ScenesBeyondTheMachineAreRefusedWithTheEstimate) {
+  const fs::path out = fresh_dir("run_too_big");
+  for (const auto& [args, needle] : std::vector<std::pair<std::string, std::string>>{
+           {"/disks_box.toml --set system.box=[2e4,2e4]", "GB for 3.31e+08 disks; this machine has"},
+           {"/disks_box.toml --set system.box=[1e5,1e5]", "at most 2147483647"},
+           {"/dem_freefall_box.toml --set system.group[0].N=1000000000", "GB for 1e+09 spheres"},
+           {"/disks_box.toml --set sample.exposure=1e-300", "at most 1e7 frames"}}) {
+    // The first case needs ≈ 85 GB: on a machine that large it is a legal (long) run.
+    if (contains(needle, "3.31e+08") && double(sysconf(_SC_PHYS_PAGES)) * double(sysconf(_SC_PAGE_SIZE)) > 80e9)
+      continue;
+    const Result r = run("run " + scenes + args + " -o " + out.string());
+    EXPECT_EQ(r.status, 2) << args << "\n" << r.output;
+    EXPECT_TRUE(contains(r.output, needle)) << args << "\n" << r.output;
+    EXPECT_FALSE(fs::exists(out)) << args;
+  }
+}
+
+// A state that turns non-finite ends "failed" naming the quantity, not "complete" with NaN.
+TEST(CliRun, NonFiniteStateFailsTheRun) {
+  const fs::path out = fresh_dir("run_nonfinite");
+  const Result r = run("run " + scenes + "/dem_vdw_pair.toml -o " + out.string() +
+                       " --set system.gravity=[0.0,0.0,-1e300] --set run.until=1e-7 --set output.mp4=false");
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_TRUE(contains(r.output, "no longer finite")) << r.output;
+  const std::string json = read_file(out / "run.json");
+  EXPECT_TRUE(contains(json, "\"status\": \"failed\"")) << json;
+  EXPECT_TRUE(contains(json, "kinetic energy")) << json;
+}
+
+// run.max_wall stops a run cleanly as interrupted.
+TEST(CliRun, MaxWallStopsTheRunAsInterrupted) {
+  const fs::path out = fresh_dir("run_max_wall");
+  const auto t0 = std::chrono::steady_clock::now();
+  const Result r = run("run " + scenes + "/disks_box.toml -o " + out.string() +
+                       " --set run.until=1e6 --set run.max_wall=1.0 --set render.size=[64,64]");
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  EXPECT_EQ(r.status, 130) << r.output;
+  EXPECT_TRUE(contains(r.output, "run.max_wall")) << r.output;
+  EXPECT_LT(seconds, 6.0);
+  EXPECT_TRUE(contains(read_file(out / "run.json"), "\"status\": \"interrupted\""));
+}
+
 TEST(CliRun, BadSceneStopsBeforeTheRunWithKeyAndValue) {
   const fs::path out = fresh_dir("run_bad");
   const Result r = run("run " + scenes + "/disks_box.toml -o " + out.string() +

@@ -329,3 +329,23 @@ TEST(SceneSchema, DescribeListsEveryKey) {
   }
   EXPECT_THROW(schema_for_engine("md"), grainflow::Error);
 }
+
+// A hostile or broken file must not make the error message huge: long values are elided
+// with their size, and only the first 20 problems are listed, then how many more.
+TEST(SceneValidation, MessagesStayShortForHugeInput) {
+  std::string big = "[run]\nengine = \"ed\"\nuntil = 1.0\n[system]\nN = 10\nbox = [";
+  for (int i = 0; i < 100000; ++i) big += (i ? ", " : "") + std::to_string(i);
+  big += "]\nkT = \"" + std::string(5000, 'x') + "\"\n";
+  for (int i = 0; i < 30; ++i) big += "unknown_" + std::to_string(i) + " = 1\n";
+  try {
+    parse_scene(big, "t.toml");
+    FAIL();
+  } catch (const SceneError& e) {
+    const std::string m = e.what();
+    EXPECT_LT(m.size(), 8000u) << m.substr(0, 2000);
+    EXPECT_NE(m.find("(100000 elements)"), std::string::npos) << m.substr(0, 2000);
+    EXPECT_NE(m.find("(5000 characters)"), std::string::npos) << m.substr(0, 2000);
+    EXPECT_NE(m.find("… and "), std::string::npos) << m.substr(0, 2000);
+    EXPECT_EQ(e.issues().size(), 32u);  // every problem is still in the list a program reads
+  }
+}

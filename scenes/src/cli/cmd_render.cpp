@@ -26,6 +26,7 @@
 #include "scenes/src/cli/commands.hpp"
 #include "scenes/src/engines/field_snapshot.hpp"
 #include "scenes/src/engines/particle_snapshot.hpp"
+#include "scenes/src/run/interrupt.hpp"
 #include "scenes/src/run/run_folder.hpp"
 
 namespace grainflow::scenes {
@@ -167,7 +168,15 @@ int run_render(const RenderArgs& a) {
   const auto start = clock::now();
   auto last_report = start;
   std::int64_t read = 0, written = 0;
+  // Ctrl-C / SIGTERM as in `grainflow run`: stop after the frame at hand, finish the MP4
+  // and keep the frames written so far.
+  InterruptGuard interrupts;
+  bool interrupted = false;
   do {
+    if (stop_requested()) {
+      interrupted = true;
+      break;
+    }
     if (read++ % a.every != 0) continue;
     to_snapshot(frame, attribute, snapshot);
     snapshot.lo = lo;
@@ -189,7 +198,8 @@ int run_render(const RenderArgs& a) {
               written / seconds);
   if (a.png) std::printf("  frames: %s\n", (dir / "frames").c_str());
   if (a.mp4) std::printf("  video:  %s\n", mp4_path.c_str());
-  return 0;
+  if (interrupted) std::printf("interrupted after %lld frames\n", static_cast<long long>(written));
+  return interrupted ? 130 : 0;
 }
 
 }  // namespace

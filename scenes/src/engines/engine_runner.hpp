@@ -37,6 +37,10 @@ public:
   // row; taking a row starts a new window.
   virtual std::vector<std::string> stats_columns() const = 0;
   virtual std::vector<double> stats_row() = 0;
+  // Throws grainflow::Error naming the quantity when the state has turned non-finite (a
+  // run would otherwise end "complete" with NaN everywhere). Called at every stats row and
+  // at the end of the run.
+  virtual void check_finite() const {}
 
   // Throughput: total work so far and its unit ("collisions", "particle-steps").
   virtual double work() const = 0;

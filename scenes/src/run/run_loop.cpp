@@ -27,6 +27,7 @@
 #include "scenes/src/run/run_folder.hpp"
 #include "scenes/src/scene/run_keys.hpp"
 #include "scenes/src/scene/scene.hpp"
+#include "scenes/src/scene/toml_text.hpp"
 
 namespace grainflow::scenes {
 namespace {
@@ -142,8 +143,16 @@ public:
   void finish(const RunRecord& r) {
     for (auto& o : data_) o->finish(r);
   }
-  void fail(const RunRecord& r) {
-    for (auto& o : data_) o->fail(r);
+  // Every output is told, whatever the others do: the first error (the one being thrown)
+  // stays the one reported, later ones (run.json on a full disk, say) are printed.
+  void fail(const RunRecord& r) noexcept {
+    for (auto& o : data_) {
+      try {
+        o->fail(r);
+      } catch (const std::exception& e) {
+        std::fprintf(stderr, "grainflow: also: %s\n", e.what());
+      }
+    }
   }
 
 private:
@@ -153,6 +162,31 @@ private:
 };
 
 }  // namespace
+
+namespace loop_keys {
+
+void declare(Schema& s) {
+  s.table("run")
+      .add_float(max_wall, 0.0, "wall-clock limit: the run stops as \"interrupted\" when it is reached (0 = none)", "s")
+      .at_least(0.0);
+  s.add_check([](const Scene& sc, SceneCheck& c) {
+    // Each frame is drawn and stored, each row written: a scene asking for 10^300 of them
+    // (sample.exposure = 1e-300) is a mistake, not a run.
+    constexpr double kMaxFrames = 1e7, kMaxRows = 1e8;
+    const auto until = sc.find(run_keys::until);
+    if (!until) return;
+    const double exposure = sc.get(sample_keys::exposure);
+    if (*until / exposure > kMaxFrames)
+      c.fail(sample_keys::exposure.path, "run.until / sample.exposure = " + toml_float(*until / exposure) +
+                                             " frames; allowed: at most 1e7 frames (a larger sample.exposure)");
+    const double every = sc.get(stats_keys::every);
+    if (every > 0 && *until / every > kMaxRows)
+      c.fail(stats_keys::every.path, "run.until / output.stats_every = " + toml_float(*until / every) +
+                                         " rows; allowed: at most 1e8 rows");
+  });
+}
+
+}  // namespace loop_keys
 
 int run_scene(const Scene& scene, const RunOptions& opt) {
   // Everything decided by the scene alone is checked before the folder exists.
@@ -219,8 +253,14 @@ int run_scene(const Scene& scene, const RunOptions& opt) {
     // Advance in slices of at most 1/20 exposure so progress and Ctrl-C stay responsive.
     const double slice = exposure / 20;
     const std::uint64_t step_slice = 1000;
+    const double max_wall = scene.get(loop_keys::max_wall);
     while (done() < target) {
       if (stop_requested()) {
+        status = RunStatus::Interrupted;
+        break;
+      }
+      if (max_wall > 0 && seconds_since(wall_start) >= max_wall) {
+        std::fprintf(stderr, "grainflow: run.max_wall = %g s reached, stopping\n", max_wall);
         status = RunStatus::Interrupted;
         break;
       }
@@ -233,6 +273,7 @@ int run_scene(const Scene& scene, const RunOptions& opt) {
       if (t >= next_stats() - eps) {
         // Rows carry their scheduled time when the engine stopped there up to round-off.
         const double row_time = std::abs(t - next_stats()) <= eps ? next_stats() : t;
+        runner->check_finite();
         out.stats(row_time, runner->stats_row());
         while (next_stats() <= t + eps) ++stats_due;
       }
@@ -243,6 +284,7 @@ int run_scene(const Scene& scene, const RunOptions& opt) {
       progress.update(done(), runner->work());
     }
     progress.finish(done(), runner->work());
+    runner->check_finite();
     out.finish_images();
     const double wall = seconds_since(wall_start);
     record.status = status;

@@ -6,9 +6,18 @@
 #include <filesystem>
 #include <string>
 
+#include "scenes/src/scene/schema.hpp"
+
 namespace grainflow::scenes {
 
 class Scene;
+
+namespace loop_keys {
+// Wall-clock limit of a run [s] (0 = none): reached, the run stops as "interrupted".
+inline constexpr Key<double> max_wall{"run.max_wall"};
+// Declares run.max_wall and the bounds on frames and stats rows a scene may ask for.
+void declare(Schema& s);
+}  // namespace loop_keys
 
 struct RunOptions {
   std::filesystem::path dir;  // the run folder

@@ -10,6 +10,7 @@
 #include "scenes/src/engines/sampling.hpp"
 #include "scenes/src/outputs/output_table.hpp"
 #include "scenes/src/run/render_keys.hpp"
+#include "scenes/src/run/run_loop.hpp"
 #include "scenes/src/scene/run_keys.hpp"
 
 namespace grainflow::scenes {
@@ -22,6 +23,7 @@ void declare_common(Schema& s, std::vector<std::string> colour_attributes) {
   sample_keys::declare(s);
   render_keys::declare(s, std::move(colour_attributes));
   declare_output_keys(s);
+  loop_keys::declare(s);
 }
 
 class AppCatalog final : public SchemaCatalog {

@@ -25,7 +25,11 @@ private:
   static std::string compose(const std::vector<SceneIssue>& issues) {
     std::string s = issues.size() == 1 ? std::string("invalid scene:\n")
                                        : std::to_string(issues.size()) + " problems in the scene:\n";
-    for (const auto& i : issues) s += "  " + i.text() + "\n";
+    // The first kShown problems (in file order); a file of a million unknown keys must not
+    // print a million lines.
+    constexpr std::size_t kShown = 20;
+    for (std::size_t k = 0; k < issues.size() && k < kShown; ++k) s += "  " + issues[k].text() + "\n";
+    if (issues.size() > kShown) s += "  … and " + std::to_string(issues.size() - kShown) + " more\n";
     if (!s.empty()) s.pop_back();
     return s;
   }

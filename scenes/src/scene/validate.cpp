@@ -49,6 +49,20 @@ std::string node_text(const toml::node& n) {
   }
 }
 
+std::string brief_text(const toml::node& n) {
+  constexpr std::size_t kMaxElements = 8, kMaxChars = 60;
+  if (const auto* a = n.as_array(); a && a->size() > kMaxElements) {
+    std::string s = "[";
+    for (std::size_t i = 0; i < kMaxElements; ++i) s += (i ? ", " : "") + brief_text((*a)[i]);
+    return s + ", … (" + std::to_string(a->size()) + " elements)]";
+  }
+  if (const auto* str = n.as_string(); str && str->get().size() > kMaxChars)
+    return toml_string(str->get().substr(0, kMaxChars)) + "… (" + std::to_string(str->get().size()) + " characters)";
+  std::string s = node_text(n);
+  if (s.size() > 4 * kMaxChars) s = s.substr(0, 4 * kMaxChars) + "…";
+  return s;
+}
+
 std::optional<std::string> find_origin(const Origins& origins, std::string_view path) {
   std::string_view p = path;
   while (!p.empty()) {
@@ -142,7 +156,7 @@ private:
       issue(name, msg);
       return;
     }
-    std::string msg = "key '" + name + "' = " + node_text(node) + " is outside any section; keys belong in a section";
+    std::string msg = "key '" + name + "' = " + brief_text(node) + " is outside any section; keys belong in a section";
     // The same key name in some section is the likely intent (`seed = 3` for run.seed).
     for (const auto& t : schema_.tables())
       if (t.kind() != TableKind::Array && t.find_key(name)) {
@@ -158,7 +172,7 @@ private:
     if (t.kind() == TableKind::Array) {
       const toml::array* arr = node.as_array();
       if (!arr || !arr->is_array_of_tables()) {
-        issue(path, path + " = " + node_text(node) + " has the wrong type (" + node_type_name(node) +
+        issue(path, path + " = " + brief_text(node) + " has the wrong type (" + node_type_name(node) +
                         "); allowed: an array of tables, written [[" + t.path() + "]]");
         return;
       }
@@ -176,7 +190,7 @@ private:
     }
     const toml::table* tbl = node.as_table();
     if (!tbl) {
-      issue(path, path + " = " + node_text(node) + " has the wrong type (" + node_type_name(node) +
+      issue(path, path + " = " + brief_text(node) + " has the wrong type (" + node_type_name(node) +
                       "); allowed: a table, written [" + t.path() + "]");
       return;
     }
@@ -198,7 +212,7 @@ private:
         for (const auto& key : t.keys()) names.push_back(key.name);
         for (const auto& other : schema_.tables())
           if (is_direct_child(t.path(), other.path())) names.push_back(other.path().substr(t.path().size() + 1));
-        std::string msg = "unknown key " + full + " = " + node_text(node);
+        std::string msg = "unknown key " + full + " = " + brief_text(node);
         if (auto m = closest_match(name, names))
           msg += "; did you mean " + path + "." + *m + "?";
         else
@@ -278,7 +292,7 @@ private:
   }
 
   void wrong_type(const KeySpec& ks, const toml::node& node, const std::string& full) {
-    issue(full, full + " = " + node_text(node) + " has the wrong type (" + node_type_name(node) +
+    issue(full, full + " = " + brief_text(node) + " has the wrong type (" + node_type_name(node) +
                     "); allowed: " + ks.allowed_text());
   }
 
@@ -300,7 +314,7 @@ private:
         if (!node.is_number()) return wrong_type(ks, node, full);
         const double v = node.is_integer() ? double(node.as_integer()->get()) : node.as_floating_point()->get();
         if (!std::isfinite(v) || !in_range(ks, v))
-          return issue(full, full + " = " + node_text(node) + " is out of range; allowed: " + ks.allowed_text());
+          return issue(full, full + " = " + brief_text(node) + " is out of range; allowed: " + ks.allowed_text());
         out.insert_or_assign(ks.name, v);
         return;
       }
@@ -316,7 +330,7 @@ private:
             out.insert_or_assign(ks.name, v);
             return;
           }
-        std::string msg = full + " = " + toml_string(v) + " is not allowed; allowed: " + ks.allowed_text();
+        std::string msg = full + " = " + brief_text(toml::value<std::string>(v)) + " is not allowed; allowed: " + ks.allowed_text();
         if (auto m = closest_match(v, ks.choices)) msg += "; did you mean " + toml_string(*m) + "?";
         return issue(full, msg);
       }
@@ -330,7 +344,7 @@ private:
     const toml::array* a = node.as_array();
     if (!a) return wrong_type(ks, node, full);
     if (a->size() < ks.min_length || a->size() > ks.max_length)
-      return issue(full, full + " = " + node_text(node) + " has " + std::to_string(a->size()) +
+      return issue(full, full + " = " + brief_text(node) + " has " + std::to_string(a->size()) +
                              " elements; allowed: " + ks.allowed_text());
     toml::array result;
     bool ok = true;
@@ -339,7 +353,7 @@ private:
       std::string elem = full + "[" + std::to_string(i) + "]";
       if (i < ks.element_names.size()) elem += " (" + ks.element_names[i] + ")";
       auto bad_type = [&] {
-        issue(full, elem + " = " + node_text(e) + " has the wrong type (" + node_type_name(e) +
+        issue(full, elem + " = " + brief_text(e) + " has the wrong type (" + node_type_name(e) +
                         "); allowed: " + ks.allowed_text());
         ok = false;
       };
@@ -352,7 +366,7 @@ private:
         bool allowed = ks.choices.empty();
         for (const auto& c : ks.choices) allowed = allowed || c == v;
         if (!allowed) {
-          std::string msg = elem + " = " + toml_string(v) + " is not allowed; allowed: " + ks.allowed_text();
+          std::string msg = elem + " = " + brief_text(toml::value<std::string>(v)) + " is not allowed; allowed: " + ks.allowed_text();
           if (auto m = closest_match(v, ks.choices)) msg += "; did you mean " + toml_string(*m) + "?";
           issue(full, msg);
           ok = false;
@@ -372,7 +386,7 @@ private:
         if (!e.is_number()) { bad_type(); continue; }
         const double v = e.is_integer() ? double(e.as_integer()->get()) : e.as_floating_point()->get();
         if (!std::isfinite(v) || !in_range(ks, v)) {
-          issue(full, elem + " = " + node_text(e) + " is out of range; allowed: " + ks.allowed_text());
+          issue(full, elem + " = " + brief_text(e) + " is out of range; allowed: " + ks.allowed_text());
           ok = false;
           continue;
         }

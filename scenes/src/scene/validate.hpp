@@ -40,8 +40,11 @@ std::string locate(const toml::table& doc, std::string_view path, const Origins&
 // The --set that put `path` (or an ancestor of it) there, if any.
 std::optional<std::string> find_origin(const Origins& origins, std::string_view path);
 
-// TOML text of a node for messages ("[8, 480]", "\"slip\"", "{…}").
+// TOML text of a node ("[8, 480]", "\"slip\"", "{…}"): the whole value.
 std::string node_text(const toml::node& n);
+// The same for messages, elided: arrays beyond 8 elements and strings beyond 60
+// characters are cut with their size ("[1, 2, …, … (12000000 elements)]").
+std::string brief_text(const toml::node& n);
 std::string node_type_name(const toml::node& n);
 
 }  // namespace grainflow::scenes

@@ -7,6 +7,7 @@
 
 #include "engine/dem/contact_params.hpp"
 #include "scenes/src/engines/dem/dem_keys.hpp"
+#include "scenes/src/engines/memory_budget.hpp"
 #include "scenes/src/scene/scene.hpp"
 #include "scenes/src/scene/schema.hpp"
 #include "scenes/src/scene/toml_text.hpp"
@@ -117,6 +118,11 @@ void declare(Schema& s) {
         c.fail(pair_csv.path, "output.pair_csv = true needs at least 2 particles; the groups hold " +
                                   std::to_string(total));
     }
+    double spheres = 0;
+    for (std::size_t g = 0; g < sc.count(group); ++g) spheres += double(sc.get(group_N, g));
+    // ≈ 1 kB a sphere: state, neighbour table with contact history, force slots.
+    if (const std::string short_of = memory_shortfall(spheres, 1000.0, "spheres"); !short_of.empty())
+      c.fail("system.group[0].N", short_of + "; allowed: fewer particles");
     const auto L = sc.get(box);
     for (std::size_t g = 0; g < sc.count(group); ++g) {
       const std::string key = "system.group[" + std::to_string(g) + "].radius";

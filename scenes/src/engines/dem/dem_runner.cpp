@@ -11,6 +11,8 @@
 #include <stdexcept>
 #include <string>
 
+#include <fmt/format.h>
+
 #include "engine/io/atomic_file.hpp"
 #include "engine/core/error.hpp"
 #include "engine/io/particle_reader.hpp"
@@ -327,6 +329,18 @@ public:
     return {"step", "N", "kinetic_energy", "rotational_energy", "potential_energy", "contacts", "coordination",
             "wall_force_bottom_z", "neighbour_builds"};
   }
+  void check_finite() const override {
+    const dem::Stats st = sim_.stats();
+    // A state that has turned non-finite (forces beyond what the time step can hold, an
+    // absurd gravity) would run on to "complete" with NaN everywhere: stop it as failed.
+    for (const auto& [name, v] : {std::pair{"kinetic energy", st.kinetic}, std::pair{"rotational energy", st.rotational},
+                                  std::pair{"potential energy", st.potential_gravity}})
+      if (!std::isfinite(v))
+        throw Error(fmt::format("dem: the state is no longer finite at t = {:.6g} s: {} = {} (check system.gravity, "
+                                "the stiffnesses and the time step)",
+                                sim_.time(), name, v));
+  }
+
   std::vector<double> stats_row() override {
     const dem::Stats st = sim_.stats();
     return {double(st.step),        double(sim_.size()), st.kinetic,           st.rotational,

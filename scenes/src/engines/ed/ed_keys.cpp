@@ -2,10 +2,14 @@
 // the rules that involve several keys. ed_runner.cpp reads them through the same handles.
 #include <array>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <string>
 
+#include <fmt/format.h>
+
 #include "scenes/src/engines/ed/ed_agents.hpp"
+#include "scenes/src/engines/memory_budget.hpp"
 #include "scenes/src/engines/ed/ed_keys.hpp"
 #include "scenes/src/scene/scene.hpp"
 #include "scenes/src/scene/schema.hpp"
@@ -56,6 +60,17 @@ void declare(Schema& s) {
 
   s.add_check([](const Scene& sc, SceneCheck& c) {
     const auto L = sc.get(box);
+    // The disks the scene asks for, against the engine's limit and this machine's memory
+    // (≈ 165 B a disk in the engine, more while the initial state is built: 256 B).
+    const double disks = sc.has(area_fraction) ? sc.get(area_fraction) * L[0] * L[1] / (std::numbers::pi / 4)
+                         : sc.has(n)           ? sc.get(n) * L[0] * L[1]
+                         : sc.has(N)           ? double(sc.get(N))
+                                               : 0.0;
+    const char* key = sc.has(N) ? N.path.data() : sc.has(n) ? n.path.data() : area_fraction.path.data();
+    if (disks > double(std::numeric_limits<int>::max()))
+      c.fail(key, fmt::format("the scene asks for {:.3g} disks; allowed: at most 2147483647 (2^31 − 1)", disks));
+    else if (const std::string short_of = memory_shortfall(disks, 256.0, "disks"); !short_of.empty())
+      c.fail(key, short_of + "; allowed: a smaller system.box or density");
     const double cell = sc.get(cell_size);
     if (cell * 3 > std::min(L[0], L[1]))
       c.fail(cell_size.path, "system.cell_size = " + toml_float(cell) +

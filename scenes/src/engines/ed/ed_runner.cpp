@@ -5,6 +5,8 @@
 #include <stdexcept>
 #include <string>
 
+#include <fmt/format.h>
+
 #include "engine/core/error.hpp"
 #include "engine/core/state_digest.hpp"
 #include "engine/ed/field_sampler.hpp"
@@ -144,6 +146,12 @@ public:
     for (const char* name : {"inserted", "removed", "N_frozen"}) c.emplace_back(name);
     return c;
   }
+  void check_finite() const override {
+    if (!std::isfinite(sim_.kinetic_energy()))
+      throw Error(fmt::format("ed: the state is no longer finite at t = {:.6g}: kinetic energy = {}", sim_.time(),
+                              sim_.kinetic_energy()));
+  }
+
   std::vector<double> stats_row() override {
     const ed::Observables o = sim_.observables();
     sim_.synchronise();
