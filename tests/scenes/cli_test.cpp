@@ -118,6 +118,16 @@ TEST(CliRender, RefusesToOverwriteEarlierFramesWithoutForce) {
   EXPECT_EQ(run(args + " --force").status, 0);
 }
 
+TEST(CliRender, NonFiniteOptionsAreRefusedBeforeTheFolderExists) {
+  for (const char* opt : {"--azimuth nan", "--elevation inf", "--range 0 inf"}) {
+    const fs::path out = fresh_dir("render_nonfinite");
+    const Result r = run("render " + data + "/particles/plain_two_frames.xyz -o " + out.string() + " " + opt);
+    EXPECT_EQ(r.status, 2) << opt << "\n" << r.output;
+    EXPECT_TRUE(contains(r.output, "finite")) << r.output;
+    EXPECT_FALSE(fs::exists(out)) << opt;
+  }
+}
+
 TEST(CliRender, ZeroOrAbsurdSizeIsAnError) {
   for (const char* size : {"0 100", "100000 100", "-5 10"}) {
     const fs::path out = fresh_dir("render_size");

@@ -80,8 +80,12 @@ void add_binned_fields(const core::ParticleFrame& frame, const Eigen::Vector3d& 
 int run_render(const RenderArgs& a) {
   if (a.size.size() != 2 || a.size[0] < 16 || a.size[1] < 16 || a.size[0] > 8192 || a.size[1] > 8192)
     throw Error("--size must be two integers W H, each in 16..8192");
-  if (!a.range.empty() && (a.range.size() != 2 || !(a.range[0] < a.range[1])))
-    throw Error("--range must be two numbers LO HI with LO < HI");
+  if (!a.range.empty() && (a.range.size() != 2 || !(a.range[0] < a.range[1]) || !std::isfinite(a.range[0]) ||
+                          !std::isfinite(a.range[1])))
+    throw Error("--range must be two finite numbers LO HI with LO < HI");
+  // A NaN angle gives a blank frame and exit 0: refuse it.
+  if (!std::isfinite(a.azimuth) || !std::isfinite(a.elevation))
+    throw Error("--azimuth and --elevation must be finite numbers of degrees");
   if (a.every < 1) throw Error("--every must be ≥ 1");
   if (!a.png && !a.mp4) throw Error("nothing to write: --no-png and --no-mp4 together");
   if (a.bins.size() != 2 || a.bins[0] < 1 || a.bins[1] < 1 || a.bins[0] > 4096 || a.bins[1] > 4096)
