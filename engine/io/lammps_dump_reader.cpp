@@ -24,6 +24,7 @@ constexpr PositionSet kPositionSets[] = {
 }  // namespace
 
 LammpsDumpReader::LammpsDumpReader(std::string path) : in_(std::move(path)) {}
+LammpsDumpReader::LammpsDumpReader(LineReader&& in) : in_(std::move(in)) {}
 
 bool LammpsDumpReader::next(ParticleFrame& f) {
   std::string_view line;
@@ -40,8 +41,8 @@ bool LammpsDumpReader::next(ParticleFrame& f) {
   const long frame_line = in_.line_number();
 
   auto value_line = [&](const std::string& item) -> std::string_view {
-    if (!in_.next(line)) in_.fail("file ends after 'ITEM: " + item + "'; expected its value on the next line");
-    if (starts_with_item(line)) in_.fail("expected the value of 'ITEM: " + item + "', got " + quote_token(trim(line)));
+    if (!in_.next(line)) in_.fail("file ends after 'ITEM: " + printable(item, 80) + "'; expected its value on the next line");
+    if (starts_with_item(line)) in_.fail("expected the value of 'ITEM: " + printable(item, 80) + "', got " + quote_token(trim(line)));
     return line;
   };
 
@@ -67,6 +68,7 @@ bool LammpsDumpReader::next(ParticleFrame& f) {
       std::int64_t n;
       if (tokens_.size() != 1 || !parse_int64(tokens_[0], n) || n < 0)
         in_.fail("expected the number of atoms (one non-negative integer), got " + quote_token(trim(line)));
+      check_particle_limit(in_, n);
       natoms = n;
       natoms_line = in_.line_number();
     } else if (item.rfind("BOX BOUNDS", 0) == 0) {
@@ -85,17 +87,24 @@ bool LammpsDumpReader::next(ParticleFrame& f) {
       for (int k = 0; k < 3; ++k) {
         split_ws(value_line(item), tokens_);
         const std::size_t want = triclinic ? 3 : 2;
-        if (tokens_.size() != want || !parse_double(tokens_[0], box_lo_bound[k]) ||
-            !parse_double(tokens_[1], box_hi_bound[k]) || (triclinic && !parse_double(tokens_[2], tilt[k])))
+        if (tokens_.size() != want)
           in_.fail(std::string("expected ") + (triclinic ? "'lo hi tilt'" : "'lo hi'") + " of the box along " +
                    "xyz"[k] + ", got " + quote_token(trim(line)));
+        double* const values[3] = {&box_lo_bound[k], &box_hi_bound[k], &tilt[k]};
+        // nan, inf and 1e999 (out of range) would make the box, and every scaled position,
+        // meaningless; the LAMMPS names of the line's numbers say which one is bad.
+        static constexpr const char* kNames[3][3] = {{"xlo", "xhi", "xy"}, {"ylo", "yhi", "xz"}, {"zlo", "zhi", "yz"}};
+        for (std::size_t j = 0; j < want; ++j)
+          if (!parse_double(tokens_[j], *values[j]) || !std::isfinite(*values[j]))
+            in_.fail("column " + std::to_string(j + 1) + " (" + kNames[k][j] + ") of the box bounds: expected a finite number, got " +
+                     quote_token(tokens_[j]));
       }
       have_box = true;
     } else if (item.rfind("ATOMS", 0) == 0) {
       atoms_header = item.substr(5);
       break;
     } else if (item.rfind("NUMBER OF ENTRIES", 0) == 0 || item.rfind("ENTRIES", 0) == 0) {
-      in_.fail("this is a 'dump local' file (ITEM: " + item + "); only per-atom dumps are particle files");
+      in_.fail("this is a 'dump local' file (ITEM: " + printable(item) + "); only per-atom dumps are particle files");
     } else {
       in_.fail("unknown header " + quote_token(t) +
                "; expected ITEM: TIMESTEP, TIME, UNITS, NUMBER OF ATOMS, BOX BOUNDS or ATOMS");
@@ -122,7 +131,7 @@ bool LammpsDumpReader::next(ParticleFrame& f) {
   for (int i = 0; i < ncol; ++i) {
     int seen = 1;
     for (int j = 0; j < i; ++j) seen += cols[j] == cols[i] || cols[j].rfind(cols[i] + "_", 0) == 0;
-    if (seen > 1) cols[i] += "_" + std::to_string(seen);
+    if (seen > 1) cols[i].append(1, '_').append(std::to_string(seen));  // not "_" + ...: GCC 12 -Wrestrict
   }
 
   enum Role { kExtra, kId, kType, kElement, kPos, kVel, kRadius, kDiameter };
@@ -141,7 +150,7 @@ bool LammpsDumpReader::next(ParticleFrame& f) {
     break;
   }
   if (!have_pos)
-    in_.fail("'ITEM: ATOMS" + atoms_header +
+    in_.fail("'ITEM: ATOMS" + printable(atoms_header, 160) +
              "' has no position columns; expected x y [z], xu yu [zu], xs ys [zs] or xsu ysu [zsu]");
   if (scaled && !have_box) in_.fail("scaled coordinates need 'ITEM: BOX BOUNDS' before 'ITEM: ATOMS'");
   if (scaled && !pos_has_z && triclinic) in_.fail("scaled triclinic coordinates need zs");
@@ -159,26 +168,26 @@ bool LammpsDumpReader::next(ParticleFrame& f) {
   else if (idiam >= 0) role[idiam] = kDiameter;
 
   std::string header_desc;
-  for (int i = 0; i < ncol && i < 10; ++i) header_desc += (i ? " " : "") + cols[i];
+  for (int i = 0; i < ncol && i < 10; ++i) {
+    if (i) header_desc.push_back(' ');
+    header_desc.append(printable(cols[i]));  // not " " + ...: GCC 12 -Wrestrict false positive
+  }
   if (ncol > 10) header_desc += " ...";
 
   const std::size_t n = static_cast<std::size_t>(*natoms);
-  f.position.assign(n, Vec3::Zero());
-  f.radius.assign(n, kDefaultRadius);
-  f.id.resize(n);
-  f.type.assign(n, 1);
-  if (have_vel) f.velocity.assign(n, Vec3::Zero());
   std::vector<int> extra_slot(ncol, -1);
   for (int c = 0; c < ncol; ++c)
     if (role[c] == kExtra) {
       extra_slot[c] = static_cast<int>(f.extra.size());
-      f.extra.emplace_back(cols[c], std::vector<double>(n));
+      f.extra.emplace_back(cols[c], std::vector<double>());
     }
+  resize_particles(f, plausible_particles(in_, *natoms, natoms_line, ncol), kDefaultRadius, have_vel);
 
   for (std::size_t i = 0; i < n; ++i) {
     if (!in_.next(line))
       in_.fail("file ends after " + std::to_string(i) + " of the " + std::to_string(n) + " atoms announced on line " +
                std::to_string(natoms_line) + " (truncated last frame?)");
+    if (i == f.size()) resize_particles(f, grown_size(i, n), kDefaultRadius, have_vel);
     split_ws(line, tokens_);
     if (static_cast<int>(tokens_.size()) != ncol) {
       if (starts_with_item(line))
@@ -191,14 +200,14 @@ bool LammpsDumpReader::next(ParticleFrame& f) {
       auto num = [&](bool finite) {
         double v;
         if (!parse_double(tok, v) || (finite && !std::isfinite(v)))
-          in_.fail("column " + std::to_string(c + 1) + " (" + cols[c] + "): expected a " + (finite ? "finite " : "") +
+          in_.fail("column " + std::to_string(c + 1) + " (" + printable(cols[c]) + "): expected a " + (finite ? "finite " : "") +
                    "number, got " + quote_token(tok));
         return v;
       };
       auto integer = [&]() {
         std::int64_t v;
         if (!parse_int64(tok, v))
-          in_.fail("column " + std::to_string(c + 1) + " (" + cols[c] + "): expected an integer, got " + quote_token(tok));
+          in_.fail("column " + std::to_string(c + 1) + " (" + printable(cols[c]) + "): expected an integer, got " + quote_token(tok));
         return v;
       };
       switch (role[c]) {
@@ -217,7 +226,7 @@ bool LammpsDumpReader::next(ParticleFrame& f) {
         case kRadius:
         case kDiameter: {
           const double v = num(true);
-          if (v < 0) in_.fail("column " + std::to_string(c + 1) + " (" + cols[c] + "): negative value " + quote_token(tok));
+          if (v < 0) in_.fail("column " + std::to_string(c + 1) + " (" + printable(cols[c]) + "): negative value " + quote_token(tok));
           f.radius[i] = role[c] == kRadius ? v : 0.5 * v;
           break;
         }

@@ -20,6 +20,8 @@ namespace grainflow::io {
 class LammpsDumpReader final : public ParticleReader {
 public:
   explicit LammpsDumpReader(std::string path);
+  // Reads from an already open file (open_particle_file() hands over its probe).
+  explicit LammpsDumpReader(LineReader&& in);
   bool next(ParticleFrame& frame) override;
   const std::string& path() const override { return in_.path(); }
   std::string_view format() const override { return "lammps-dump"; }

@@ -2,6 +2,8 @@
 // `grainflow render FILE`: frames are streamed one at a time, so a multi-gigabyte
 // multi-frame file is never held in memory.
 #pragma once
+#include <algorithm>
+#include <cstddef>
 #include <memory>
 #include <string>
 #include <string_view>
@@ -26,5 +28,17 @@ public:
 // with "ITEM:" is a LAMMPS/LIGGGHTS text dump, a first line holding only an integer is
 // (extended) XYZ. Anything else (including gzip data) throws grainflow::Error.
 std::unique_ptr<ParticleReader> open_particle_file(const std::string& path);
+
+// For the readers: resizes every per-particle vector of `f` to `n` (velocity only when
+// `with_velocity`; every extra column), new particles at the origin with `default_radius`,
+// type 1, id 0, zero velocity and extra values. A frame is sized for what its file can
+// plausibly hold (plausible_particles()) and grows with this as lines are read, so a
+// header's count alone never decides how much memory is taken.
+void resize_particles(ParticleFrame& f, std::size_t n, double default_radius, bool with_velocity);
+// The size to grow a frame of `f.size()` particles to, towards `count`: doubling, so that
+// growing costs O(1) per particle.
+inline std::size_t grown_size(std::size_t size, std::size_t count) {
+  return std::min(count, std::max<std::size_t>(2 * size, 4096));
+}
 
 }  // namespace grainflow::io

@@ -10,6 +10,9 @@
 namespace grainflow::io {
 namespace {
 
+// Properties specs and Lattice values are quoted whole in messages, up to this length.
+constexpr std::size_t kSpecChars = 160;
+
 std::string lower(std::string_view s) {
   std::string r(s);
   for (auto& c : r) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
@@ -45,7 +48,7 @@ std::vector<KeyValue> parse_comment(std::string_view s, const LineReader& in) {
         const char q = s[i++];
         const std::size_t end = s.find(q, i);
         if (end == std::string_view::npos)
-          in.fail("unterminated quoted value of key '" + kv.key + "' in the extended-XYZ comment line");
+          in.fail("unterminated quoted value of key '" + printable(kv.key) + "' in the extended-XYZ comment line");
         kv.value = std::string(s.substr(i, end - i));
         i = end + 1;
       } else {
@@ -70,8 +73,11 @@ struct Property {
 
 std::string describe(const std::vector<Property>& props) {
   std::string s;
-  for (const auto& p : props)
-    s += (s.empty() ? "" : " ") + p.name + ":" + p.kind + ":" + std::to_string(p.ncols);
+  // Appended piece by piece ("" + std::string&& trips a GCC 12 -Wrestrict false positive).
+  for (const auto& p : props) {
+    if (!s.empty()) s.push_back(' ');
+    s.append(printable(p.name)).append(1, ':').append(1, p.kind).append(1, ':').append(std::to_string(p.ncols));
+  }
   return s;
 }
 
@@ -85,7 +91,7 @@ std::vector<Property> parse_properties(const std::string& spec, const LineReader
     start = c + 1;
   }
   if (parts.size() % 3 != 0)
-    in.fail("Properties=" + spec + " is not a list of name:type:count triples");
+    in.fail("Properties=" + printable(spec, kSpecChars) + " is not a list of name:type:count triples");
   std::vector<Property> props;
   bool has_species = false;
   for (std::size_t i = 0; i < parts.size(); i += 3) {
@@ -95,8 +101,8 @@ std::vector<Property> parse_properties(const std::string& spec, const LineReader
     std::int64_t n = 0;
     if (p.name.empty() || kind.size() != 1 || std::string_view("sril").find(kind[0]) == std::string_view::npos ||
         !parse_int64(parts[i + 2], n) || n < 1 || n > 1000)
-      in.fail("bad Properties entry '" + std::string(parts[i]) + ":" + std::string(parts[i + 1]) + ":" +
-              std::string(parts[i + 2]) + "'; expected name:S|R|I|L:count");
+      in.fail("bad Properties entry '" + printable(parts[i]) + ":" + printable(parts[i + 1]) + ":" +
+              printable(parts[i + 2]) + "'; expected name:S|R|I|L:count");
     p.kind = static_cast<char>(std::toupper(kind[0]));
     p.ncols = static_cast<int>(n);
     const std::string nm = lower(p.name);
@@ -124,11 +130,11 @@ std::vector<Property> parse_properties(const std::string& spec, const LineReader
     if (p.role == Role::type && has_species) p.role = Role::extra;
   const auto count = [&](Role r) { return std::count_if(props.begin(), props.end(), [&](const Property& p) { return p.role == r; }); };
   if (count(Role::pos) != 1)
-    in.fail("Properties=" + spec + " has no position property (pos:R:3 or pos:R:2)");
+    in.fail("Properties=" + printable(spec, kSpecChars) + " has no position property (pos:R:3 or pos:R:2)");
   for (Role r : {Role::species, Role::radius, Role::diameter, Role::velocity, Role::id, Role::type})
-    if (count(r) > 1) in.fail("Properties=" + spec + " names the same quantity twice");
+    if (count(r) > 1) in.fail("Properties=" + printable(spec, kSpecChars) + " names the same quantity twice");
   if (count(Role::radius) && count(Role::diameter))
-    in.fail("Properties=" + spec + " has both a radius and a diameter column");
+    in.fail("Properties=" + printable(spec, kSpecChars) + " has both a radius and a diameter column");
   return props;
 }
 
@@ -138,10 +144,11 @@ std::vector<double> parse_numbers(const std::string& value, std::size_t n, const
   std::vector<double> out(tok.size());
   for (std::size_t i = 0; i < tok.size(); ++i)
     if (!parse_double(tok[i], out[i]) || !std::isfinite(out[i]))
-      in.fail(std::string(key) + "=\"" + value + "\": " + quote_token(tok[i]) + " is not a number");
+      in.fail(std::string(key) + "=\"" + printable(value, kSpecChars) + "\": " + quote_token(tok[i]) +
+              " is not a finite number");
   if (out.size() != n)
-    in.fail(std::string(key) + "=\"" + value + "\": expected " + std::to_string(n) + " numbers, got " +
-            std::to_string(out.size()));
+    in.fail(std::string(key) + "=\"" + printable(value, kSpecChars) + "\": expected " + std::to_string(n) +
+            " numbers, got " + std::to_string(out.size()));
   return out;
 }
 
@@ -155,6 +162,7 @@ bool parse_bool(std::string_view t, bool& out) {
 }  // namespace
 
 XyzReader::XyzReader(std::string path) : in_(std::move(path)) {}
+XyzReader::XyzReader(LineReader&& in) : in_(std::move(in)) {}
 
 int XyzReader::species_type(std::string_view s) {
   if (mode_ == SpeciesMode::unknown) {
@@ -185,6 +193,7 @@ bool XyzReader::next(ParticleFrame& f) {
   std::int64_t n = -1;
   if (tokens_.size() != 1 || !parse_int64(tokens_[0], n) || n < 0)
     in_.fail("expected the particle count of an XYZ frame (one non-negative integer), got " + quote_token(trim(line)));
+  check_particle_limit(in_, n);
   const long count_line = in_.line_number();
 
   if (!in_.next(line))
@@ -205,15 +214,16 @@ bool XyzReader::next(ParticleFrame& f) {
       } else if (kv.key == "origin") {
         origin = parse_numbers(kv.value, 3, "Origin", in_);
       } else if (kv.key == "time") {
-        if (!parse_double(kv.value, f.time)) in_.fail("Time=" + kv.value + " is not a number");
+        if (!parse_double(kv.value, f.time)) in_.fail("Time=" + printable(kv.value) + " is not a number");
       } else if (kv.key == "timestep" || kv.key == "step") {
-        if (!parse_int64(kv.value, f.timestep)) in_.fail(kv.key + "=" + kv.value + " is not an integer");
+        if (!parse_int64(kv.value, f.timestep))
+          in_.fail(kv.key + "=" + printable(kv.value) + " is not an integer");
       } else if (kv.key == "pbc") {
         std::vector<std::string_view> t;
         split_ws(kv.value, t);
         if (t.size() != 3 || !parse_bool(t[0], f.periodic[0]) || !parse_bool(t[1], f.periodic[1]) ||
             !parse_bool(t[2], f.periodic[2]))
-          in_.fail("pbc=\"" + kv.value + "\": expected three of T/F");
+          in_.fail("pbc=\"" + printable(kv.value) + "\": expected three of T/F");
       }
     }
     props = parse_properties(properties.value_or("species:S:1:pos:R:3"), in_);
@@ -231,6 +241,9 @@ bool XyzReader::next(ParticleFrame& f) {
       }
       f.triclinic = a.y() != 0 || a.z() != 0 || b.x() != 0 || b.z() != 0 || c.x() != 0 || c.y() != 0;
       if (f.triclinic && a.y() == 0 && a.z() == 0 && b.z() == 0) f.tilt = {b.x(), c.x(), c.y()};
+      // Finite vectors can still add up past the largest double (1e308 + 1e308).
+      if (!f.box_lo.allFinite() || !f.box_hi.allFinite())
+        in_.fail("Lattice and Origin give a box whose corners are not finite numbers (beyond 1.8e308)");
     }
   }
 
@@ -238,32 +251,30 @@ bool XyzReader::next(ParticleFrame& f) {
   int expected_cols = 0;
   for (const auto& p : props) expected_cols += p.ncols;
   const std::size_t count = static_cast<std::size_t>(n);
-  f.position.resize(count, Vec3::Zero());
-  f.radius.assign(count, kDefaultRadius);
-  f.id.resize(count);
-  f.type.assign(count, 1);
-  bool pos2d = false;
-  // Which extra slot each property component goes to.
-  std::vector<int> extra_slot;
+  // A plain XYZ line has at least 4 columns (species x y z); how many is seen on the first.
+  const std::size_t first = plausible_particles(in_, n, count_line, extended ? expected_cols : 4);
+  bool pos2d = false, have_vel = false;
   if (extended) {
     for (const auto& p : props) {
-      if (p.role == Role::velocity) f.velocity.assign(count, Vec3::Zero());
+      if (p.role == Role::velocity) have_vel = true;
       if (p.role == Role::pos) pos2d = p.ncols == 2;
       if (p.role != Role::extra) continue;
       for (int k = 0; k < p.ncols; ++k) {
         std::string name = p.name;
         if (p.ncols == 3) name += std::string("_") + "xyz"[k];
-        else if (p.ncols > 1) name += "_" + std::to_string(k);
-        f.extra.emplace_back(std::move(name), std::vector<double>(count));
+        else if (p.ncols > 1) name.append(1, '_').append(std::to_string(k));  // not "_" + ...: GCC 12 -Wrestrict
+        f.extra.emplace_back(std::move(name), std::vector<double>());
       }
     }
   }
+  resize_particles(f, first, kDefaultRadius, have_vel);
 
   const bool have_id = std::any_of(props.begin(), props.end(), [](const Property& p) { return p.role == Role::id; });
   for (std::size_t i = 0; i < count; ++i) {
     if (!in_.next(line))
       in_.fail("file ends after " + std::to_string(i) + " of the " + std::to_string(n) +
                " particle lines announced on line " + std::to_string(count_line) + " (truncated frame?)");
+    if (i == f.size()) resize_particles(f, grown_size(i, count), kDefaultRadius, have_vel);
     split_ws(line, tokens_);
     if (!extended) {
       if (i == 0) {
@@ -271,7 +282,8 @@ bool XyzReader::next(ParticleFrame& f) {
           in_.fail("expected at least 4 columns (species x y z) in a plain XYZ particle line, got " +
                    std::to_string(tokens_.size()));
         expected_cols = static_cast<int>(tokens_.size());
-        for (int c = 5; c <= expected_cols; ++c) f.extra.emplace_back("column" + std::to_string(c), std::vector<double>(count));
+        for (int c = 5; c <= expected_cols; ++c)
+          f.extra.emplace_back("column" + std::to_string(c), std::vector<double>(f.size()));
       }
       if (static_cast<int>(tokens_.size()) != expected_cols)
         in_.fail("expected " + std::to_string(expected_cols) + " columns (species x y z" +
@@ -298,11 +310,11 @@ bool XyzReader::next(ParticleFrame& f) {
         const auto tok = tokens_[col + k];
         if (p.kind == 'L') {
           bool b;
-          if (!parse_bool(tok, b)) in_.fail("column " + std::to_string(col + k + 1) + " (" + p.name + "): expected T or F, got " + quote_token(tok));
+          if (!parse_bool(tok, b)) in_.fail("column " + std::to_string(col + k + 1) + " (" + printable(p.name) + "): expected T or F, got " + quote_token(tok));
           return b ? 1.0 : 0.0;
         }
         if (!parse_double(tok, v) || (finite && !std::isfinite(v)))
-          in_.fail("column " + std::to_string(col + k + 1) + " (" + p.name + "): expected a " +
+          in_.fail("column " + std::to_string(col + k + 1) + " (" + printable(p.name) + "): expected a " +
                    (finite ? "finite " : "") + "number, got " + quote_token(tok));
         return v;
       };
@@ -317,7 +329,7 @@ bool XyzReader::next(ParticleFrame& f) {
         case Role::radius:
         case Role::diameter: {
           const double v = number(0, true);
-          if (v < 0) in_.fail("column " + std::to_string(col + 1) + " (" + p.name + "): negative value " + quote_token(tokens_[col]));
+          if (v < 0) in_.fail("column " + std::to_string(col + 1) + " (" + printable(p.name) + "): negative value " + quote_token(tokens_[col]));
           f.radius[i] = p.role == Role::radius ? v : 0.5 * v;
           break;
         }
@@ -325,7 +337,7 @@ bool XyzReader::next(ParticleFrame& f) {
         case Role::type: {
           std::int64_t v;
           if (!parse_int64(tokens_[col], v))
-            in_.fail("column " + std::to_string(col + 1) + " (" + p.name + "): expected an integer, got " + quote_token(tokens_[col]));
+            in_.fail("column " + std::to_string(col + 1) + " (" + printable(p.name) + "): expected an integer, got " + quote_token(tokens_[col]));
           if (p.role == Role::id) f.id[i] = v;
           else f.type[i] = static_cast<int>(v);
           break;

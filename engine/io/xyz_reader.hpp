@@ -25,6 +25,8 @@ namespace grainflow::io {
 class XyzReader final : public ParticleReader {
 public:
   explicit XyzReader(std::string path);
+  // Reads from an already open file (open_particle_file() hands over its probe).
+  explicit XyzReader(LineReader&& in);
   bool next(ParticleFrame& frame) override;
   const std::string& path() const override { return in_.path(); }
   std::string_view format() const override { return "xyz"; }
