@@ -19,11 +19,22 @@ Mp4Sink::Mp4Sink(std::filesystem::path path, Mp4Options options)
 Mp4Sink::~Mp4Sink() = default;
 
 void Mp4Sink::consume(const Image& frame, std::int64_t /*index*/, double /*time*/) {
-  if (!writer_) writer_ = std::make_unique<Mp4Writer>(path_, frame.width, frame.height, options_);
+  if (!error_.empty()) throw Error(error_);
+  if (!writer_) {
+    // A writer that failed to open would fail again at the next frame, perhaps for a new
+    // reason (its .partial half made); the first cause is the one to report.
+    try {
+      writer_ = std::make_unique<Mp4Writer>(path_, frame.width, frame.height, options_);
+    } catch (const Error& e) {
+      error_ = e.what();
+      throw;
+    }
+  }
   writer_->write(frame);
 }
 
 void Mp4Sink::finish() {
+  if (!error_.empty()) throw Error(error_);
   if (!writer_) throw Error("MP4 '" + path_.string() + "': no frames were rendered, so there is no video to write");
   writer_->finish();
 }

@@ -1,8 +1,10 @@
 // FrameSink writing an H.264 MP4 (Mp4Writer). The video size is taken from the first
-// frame; the file appears under its final name only after finish() (SPEC.md §3).
+// frame; the file appears under its final name only after finish(), and until then is a
+// `.partial` that plays at every moment, kept when the run is killed (SPEC.md §3, #12).
 #pragma once
 #include <filesystem>
 #include <memory>
+#include <string>
 
 #include "render/output/frame_sink.hpp"
 #include "render/output/mp4_writer.hpp"
@@ -20,6 +22,7 @@ public:
   // video's clock is frame index / fps).
   void consume(const Image& frame, std::int64_t index, double time) override;
   // Throws grainflow::Error if no frame was given: an MP4 was asked for and none can be made.
+  // After a failure, consume() and finish() throw the first error again.
   void finish() override;
 
   std::int64_t frames_written() const;
@@ -28,6 +31,7 @@ private:
   std::filesystem::path path_;
   Mp4Options options_;
   std::unique_ptr<Mp4Writer> writer_;
+  std::string error_;  // the writer's construction failed: its error, reported again
 };
 
 }  // namespace grainflow::render

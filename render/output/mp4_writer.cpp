@@ -10,6 +10,7 @@ extern "C" {
 }
 
 #include <algorithm>
+#include <cerrno>
 #include <cstring>
 #include <optional>
 #include <utility>
@@ -22,6 +23,8 @@ namespace grainflow::render {
 namespace {
 
 std::string av_reason(int err) {
+  // Spelled the way users search for it; av_strerror capitalises it mid-sentence.
+  if (err == AVERROR(ENOSPC)) return "no space left on device";
   char buf[AV_ERROR_MAX_STRING_SIZE] = {0};
   av_strerror(err, buf, sizeof(buf));
   return buf;
@@ -50,42 +53,79 @@ void check_mp4_options(const std::filesystem::path& path, const Mp4Options& opti
 }
 
 struct Mp4Writer::Impl {
-  std::filesystem::path path;
+  std::filesystem::path path;     // the finished video
+  std::filesystem::path partial;  // the fragmented video while encoding: path + ".partial"
   int width = 0, height = 0;          // frame size given by the caller
   int enc_width = 0, enc_height = 0;  // padded to even
   Mp4Options options;
-  std::optional<io::AtomicFile> file;
 
-  AVFormatContext* format = nullptr;
+  AVFormatContext* format = nullptr;  // the fragmented muxer writing `partial`
   AVCodecContext* codec = nullptr;
   AVStream* stream = nullptr;
   AVFrame* frame = nullptr;
   AVPacket* packet = nullptr;
   SwsContext* sws = nullptr;
   Image padded;  // only for odd sizes: the frame with its last column/row repeated
-  std::int64_t frames = 0;
-  bool finished = false;
+  std::int64_t frames = 0;   // sent to the encoder
+  std::int64_t packets = 0;  // given to the muxer
+  std::int64_t on_disk = 0;  // in fragments the kernel holds: they survive SIGKILL
+  bool partial_created = false;
+  bool opened = false;          // open() completed: the encoder and muxer are usable
+  bool finished = false;        // finish() was called, whatever its outcome
+  bool published = false;       // `path` holds the finished video
+  std::string error;            // the first encoder/IO error, reported again by later calls
 
-  ~Impl() {
-    sws_freeContext(sws);
-    av_packet_free(&packet);
-    av_frame_free(&frame);
-    avcodec_free_context(&codec);
-    if (format) {
-      if (format->pb) avio_closep(&format->pb);
-      avformat_free_context(format);
-    }
-    // `file` (declared earlier) is destroyed after this body: it removes the temporary
-    // unless finish() committed it.
+  ~Impl();
+
+  std::string where() const { return "MP4 '" + path.string() + "'"; }
+  // Records the first error and throws it; a failure caused by an earlier one (a muxer
+  // whose file already failed, say) reports the earlier, which names the cause.
+  [[noreturn]] void fail(const std::string& what) {
+    if (error.empty()) error = where() + ": " + what;
+    throw Error(error);
   }
-
-  [[noreturn]] void fail(const std::string& what, int err) const {
-    throw Error("MP4 '" + path.string() + "': " + what + ": " + av_reason(err));
+  [[noreturn]] void fail(const std::string& what, int err) { fail(what + ": " + av_reason(err)); }
+  // A write to the .partial failed (a full disk, most often): say what is left of it.
+  [[noreturn]] void fail_write(int err) {
+    fail("cannot write '" + partial.string() + "': " + av_reason(err) +
+         (on_disk > 0 ? "; its first " + std::to_string(on_disk) + " frames remain playable there"
+                      : "; no frame reached it, so it is removed"));
+  }
+  void throw_if_failed() const {
+    if (!error.empty()) throw Error(error);
   }
 
   void open();
   void drain(bool flushing);
+  void close_partial();
+  void publish();
 };
+
+Mp4Writer::Impl::~Impl() {
+  // Destroyed unfinished: the run stopped for a reason elsewhere (an exception in the
+  // simulation, a failing sibling sink). The frames given so far are computed work, so the
+  // ones still in the encoder are flushed and the .partial is closed complete.
+  if (opened && format->pb && !finished && error.empty()) {
+    try {
+      close_partial();
+    } catch (...) {
+      // Recorded in `error`; a destructor reports nothing. The fragments on disk stay.
+    }
+  }
+  sws_freeContext(sws);
+  av_packet_free(&packet);
+  av_frame_free(&frame);
+  avcodec_free_context(&codec);
+  if (format) {
+    if (format->pb) avio_closep(&format->pb);
+    avformat_free_context(format);
+  }
+  // A .partial without a single complete fragment holds no video: not worth a user's look.
+  if (partial_created && !published && on_disk == 0) {
+    std::error_code ec;
+    std::filesystem::remove(partial, ec);
+  }
+}
 
 void Mp4Writer::Impl::open() {
   const AVCodec* encoder = avcodec_find_encoder_by_name("libx264");  // checked by check_mp4_options
@@ -93,13 +133,20 @@ void Mp4Writer::Impl::open() {
   // A program that chose another level keeps it.
   if (av_log_get_level() == AV_LOG_INFO) av_log_set_level(AV_LOG_WARNING);
 
-  file.emplace(path);  // throws with the OS reason if the directory is not writable
+  // Found now rather than after the whole encode, when finish() renames onto it.
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec))
+    throw Error(where() + ": the path names a directory, a file is needed");
+  partial = path;
+  partial += ".partial";
 
-  int err = avformat_alloc_output_context2(&format, nullptr, "mp4", file->path().c_str());
+  int err = avformat_alloc_output_context2(&format, nullptr, "mp4", partial.c_str());
   if (err < 0 || !format) fail("cannot create the MP4 muxer", err);
+  // No library version string and no creation time in the file: same frames, same bytes.
+  format->flags |= AVFMT_FLAG_BITEXACT;
 
   codec = avcodec_alloc_context3(encoder);
-  if (!codec) throw Error("MP4 '" + path.string() + "': out of memory allocating the encoder");
+  if (!codec) fail("out of memory allocating the encoder");
   codec->width = enc_width;
   codec->height = enc_height;
   codec->pix_fmt = AV_PIX_FMT_YUV420P;
@@ -125,31 +172,37 @@ void Mp4Writer::Impl::open() {
   if (av_dict_count(codec_opts) > 0) {
     std::string unused = av_dict_get(codec_opts, "", nullptr, AV_DICT_IGNORE_SUFFIX)->key;
     av_dict_free(&codec_opts);
-    throw Error("MP4 '" + path.string() + "': libx264 rejected option '" + unused + "'");
+    fail("libx264 rejected option '" + unused + "'");
   }
   av_dict_free(&codec_opts);
 
   stream = avformat_new_stream(format, nullptr);
-  if (!stream) throw Error("MP4 '" + path.string() + "': out of memory allocating the stream");
+  if (!stream) fail("out of memory allocating the stream");
   stream->time_base = codec->time_base;
   stream->avg_frame_rate = codec->framerate;
   err = avcodec_parameters_from_context(stream->codecpar, codec);
   if (err < 0) fail("cannot copy the encoder parameters", err);
 
-  err = avio_open(&format->pb, file->path().c_str(), AVIO_FLAG_WRITE);
-  if (err < 0) fail("cannot open '" + file->path().string() + "' for writing", err);
+  // Truncates a .partial that a killed earlier run left: this run's video replaces it.
+  err = avio_open(&format->pb, partial.c_str(), AVIO_FLAG_WRITE);
+  if (err < 0) fail("cannot create '" + partial.string() + "'", err);
+  partial_created = true;
 
   AVDictionary* mux_opts = nullptr;
-  // faststart moves the index to the front once complete, so players and browsers can
-  // start before downloading everything. It rewrites the temporary file in place.
-  av_dict_set(&mux_opts, "movflags", "+faststart", 0);
+  // empty_moov: the index (codec setup, no samples) goes first, so the file is playable
+  // from the first fragment on. frag_custom: fragments are cut where drain() says, after
+  // every frame. default_base_moof: offsets relative to each fragment, the form browsers'
+  // Media Source Extensions require and every demuxer reads.
+  av_dict_set(&mux_opts, "movflags", "frag_custom+empty_moov+default_base_moof", 0);
   err = avformat_write_header(format, &mux_opts);
   av_dict_free(&mux_opts);
-  if (err < 0) fail("cannot write the MP4 header", err);
+  if (err < 0) fail("cannot write the MP4 header to '" + partial.string() + "'", err);
+  avio_flush(format->pb);
+  if (format->pb->error < 0) fail_write(format->pb->error);
 
   frame = av_frame_alloc();
   packet = av_packet_alloc();
-  if (!frame || !packet) throw Error("MP4 '" + path.string() + "': out of memory allocating frames");
+  if (!frame || !packet) fail("out of memory allocating frames");
   frame->format = AV_PIX_FMT_YUV420P;
   frame->width = enc_width;
   frame->height = enc_height;
@@ -162,12 +215,13 @@ void Mp4Writer::Impl::open() {
 
   sws = sws_getContext(enc_width, enc_height, AV_PIX_FMT_RGBA, enc_width, enc_height, AV_PIX_FMT_YUV420P,
                        SWS_BILINEAR | SWS_ACCURATE_RND, nullptr, nullptr, nullptr);
-  if (!sws) throw Error("MP4 '" + path.string() + "': swscale cannot convert RGBA to yuv420p");
+  if (!sws) fail("swscale cannot convert RGBA to yuv420p");
   // Full-range RGB in, limited-range BT.709 YCbCr out — matching the tags above.
   const int* bt709 = sws_getCoefficients(SWS_CS_ITU709);
   sws_setColorspaceDetails(sws, bt709, 1, bt709, 0, 0, 1 << 16, 1 << 16);
 
   if (enc_width != width || enc_height != height) padded = Image(enc_width, enc_height);
+  opened = true;
 }
 
 void Mp4Writer::Impl::drain(bool flushing) {
@@ -181,9 +235,127 @@ void Mp4Writer::Impl::drain(bool flushing) {
     if (packet->duration == 0) packet->duration = 1;
     av_packet_rescale_ts(packet, codec->time_base, stream->time_base);
     packet->stream_index = stream->index;
-    err = av_interleaved_write_frame(format, packet);  // takes ownership of the payload
-    if (err < 0) fail("cannot write a packet", err);
+    // Not the interleaving variant: one stream arrives in decode order already, and the
+    // fragment cut below must close over exactly this packet.
+    err = av_write_frame(format, packet);
+    av_packet_unref(packet);
+    if (err < 0) fail_write(err);
+    ++packets;
+    // A fragment per frame: what a kill loses is only what x264 still holds. A fragment
+    // costs ~120 bytes (moof + mdat headers), nothing beside a frame's tens of kilobytes.
+    err = av_write_frame(format, nullptr);
+    if (err < 0) fail_write(err);
+    avio_flush(format->pb);  // out of this process's buffer into the kernel's
+    if (format->pb->error < 0) fail_write(format->pb->error);
+    on_disk = packets;
   }
+}
+
+// Flushes the encoder's delayed frames into the .partial, writes its trailer (the
+// fragment index, for seeking) and closes it.
+void Mp4Writer::Impl::close_partial() {
+  int err = avcodec_send_frame(codec, nullptr);
+  if (err < 0) fail("cannot flush the encoder", err);
+  drain(true);
+  err = av_write_trailer(format);
+  if (err < 0) fail_write(err);
+  err = avio_closep(&format->pb);
+  if (err < 0) fail_write(err);
+}
+
+// Copies the .partial's packets into a standard MP4 under `path` (see the header). The
+// fragmented muxer shifted the timestamps to start decoding at 0 (it writes no edit list),
+// so they are shifted back to show frame 0 at time 0, and the standard muxer writes the
+// edit list for the B-frame delay, as a direct encode does.
+void Mp4Writer::Impl::publish() {
+  const auto kept = [&] {
+    return "; the complete video (fragmented MP4, " + std::to_string(packets) + " frames) stays in '" +
+           partial.string() + "'";
+  };
+  AVFormatContext* in = nullptr;
+  AVFormatContext* out = nullptr;
+  AVPacket* pkt = av_packet_alloc();
+  struct Cleanup {
+    AVFormatContext*& in;
+    AVFormatContext*& out;
+    AVPacket*& pkt;
+    ~Cleanup() {
+      av_packet_free(&pkt);
+      avformat_close_input(&in);
+      if (out) {
+        if (out->pb) avio_closep(&out->pb);
+        avformat_free_context(out);
+      }
+    }
+  } cleanup{in, out, pkt};
+  if (!pkt) fail("out of memory allocating a packet");
+
+  std::optional<io::AtomicFile> file;
+  try {
+    file.emplace(path);
+  } catch (const Error& e) {
+    fail(e.what() + kept());
+  }
+  int err = avformat_open_input(&in, partial.c_str(), av_find_input_format("mp4"), nullptr);
+  if (err < 0) fail("cannot read back '" + partial.string() + "': " + av_reason(err) + kept());
+  if (in->nb_streams != 1) fail("'" + partial.string() + "' does not hold one video stream" + kept());
+  const AVRational in_tb = in->streams[0]->time_base;
+
+  const std::string tmp = file->path().string();
+  err = avformat_alloc_output_context2(&out, nullptr, "mp4", tmp.c_str());
+  if (err < 0 || !out) fail("cannot create the MP4 muxer: " + av_reason(err) + kept());
+  out->flags |= AVFMT_FLAG_BITEXACT;
+  AVStream* os = avformat_new_stream(out, nullptr);
+  if (!os) fail("out of memory allocating the stream" + kept());
+  os->time_base = codec->time_base;
+  os->avg_frame_rate = codec->framerate;
+  // The demuxer's parameters, not the encoder's: its packets come length-prefixed with an
+  // avcC header, while x264's are Annex B, which the muxer would "convert" a second time.
+  err = avcodec_parameters_copy(os->codecpar, in->streams[0]->codecpar);
+  if (err < 0) fail("cannot copy the stream parameters: " + av_reason(err) + kept());
+  os->codecpar->codec_tag = 0;  // the muxer picks avc1 itself, as for a direct encode
+  err = avio_open(&out->pb, tmp.c_str(), AVIO_FLAG_WRITE);
+  if (err < 0) fail("cannot open '" + tmp + "' for writing: " + av_reason(err) + kept());
+  AVDictionary* mux_opts = nullptr;
+  // faststart moves the index to the front once complete, so players and browsers can
+  // start before downloading everything. It rewrites the temporary file in place.
+  av_dict_set(&mux_opts, "movflags", "+faststart", 0);
+  err = avformat_write_header(out, &mux_opts);
+  av_dict_free(&mux_opts);
+  if (err < 0) fail("cannot write the MP4 header to '" + tmp + "': " + av_reason(err) + kept());
+
+  std::int64_t copied = 0, shift = 0;
+  while ((err = av_read_frame(in, pkt)) >= 0) {
+    av_packet_rescale_ts(pkt, in_tb, codec->time_base);
+    // Frame 0 comes first in decode order; its time is the shift the fragmented muxer added.
+    if (copied == 0) shift = pkt->pts;
+    pkt->pts -= shift;
+    pkt->dts -= shift;
+    av_packet_rescale_ts(pkt, codec->time_base, os->time_base);
+    pkt->stream_index = os->index;
+    pkt->pos = -1;
+    err = av_write_frame(out, pkt);
+    av_packet_unref(pkt);
+    if (err < 0) fail("cannot write '" + tmp + "': " + av_reason(err) + kept());
+    ++copied;
+  }
+  if (err != AVERROR_EOF) fail("cannot read back '" + partial.string() + "': " + av_reason(err) + kept());
+  if (copied != packets)
+    fail("'" + partial.string() + "' reads back " + std::to_string(copied) + " of " + std::to_string(packets) +
+         " frames" + kept());
+  err = av_write_trailer(out);
+  if (err < 0) fail("cannot write the MP4 index to '" + tmp + "': " + av_reason(err) + kept());
+  err = avio_closep(&out->pb);
+  if (err < 0) fail("cannot close '" + tmp + "': " + av_reason(err) + kept());
+  try {
+    file->commit();
+  } catch (const Error& e) {
+    fail(e.what() + kept());
+  }
+  published = true;
+  // The finished video is in place; a .partial that cannot be removed is only clutter.
+  std::error_code ec;
+  std::filesystem::remove(partial, ec);
 }
 
 Mp4Writer::Mp4Writer(std::filesystem::path path, int width, int height, Mp4Options options)
@@ -206,7 +378,8 @@ Mp4Writer::~Mp4Writer() = default;
 
 void Mp4Writer::write(const Image& image) {
   Impl& m = *impl_;
-  if (m.finished) throw Error("MP4 '" + m.path.string() + "': write() after finish()");
+  m.throw_if_failed();
+  if (m.finished) throw Error(m.where() + ": write() after finish()");
   if (image.width != m.width || image.height != m.height)
     throw Error("MP4 '" + m.path.string() + "': frame " + std::to_string(m.frames) + " is " +
                 std::to_string(image.width) + "x" + std::to_string(image.height) + " but the video is " +
@@ -240,19 +413,16 @@ void Mp4Writer::write(const Image& image) {
 
 void Mp4Writer::finish() {
   Impl& m = *impl_;
-  if (m.finished) throw Error("MP4 '" + m.path.string() + "': finish() called twice");
+  m.throw_if_failed();
+  if (m.finished) throw Error(m.where() + ": finish() called twice");
   m.finished = true;
-  int err = avcodec_send_frame(m.codec, nullptr);
-  if (err < 0) m.fail("cannot flush the encoder", err);
-  m.drain(true);
-  err = av_write_trailer(m.format);
-  if (err < 0) m.fail("cannot write the MP4 index", err);
-  err = avio_closep(&m.format->pb);
-  if (err < 0) m.fail("cannot close the file", err);
-  m.file->commit();
+  m.close_partial();
+  m.publish();
 }
 
 std::int64_t Mp4Writer::frames_written() const { return impl_->frames; }
+std::int64_t Mp4Writer::frames_on_disk() const { return impl_->on_disk; }
+const std::filesystem::path& Mp4Writer::partial_path() const { return impl_->partial; }
 int Mp4Writer::encoded_width() const { return impl_->enc_width; }
 int Mp4Writer::encoded_height() const { return impl_->enc_height; }
 
