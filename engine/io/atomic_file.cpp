@@ -77,4 +77,16 @@ void AtomicFile::abort() noexcept {
   active_ = false;
 }
 
+void write_text_atomically(const std::filesystem::path& path, std::string_view text) {
+  AtomicFile file(path);
+  std::FILE* out = std::fopen(file.path().c_str(), "wb");
+  if (!out) throw Error("cannot write '" + path.string() + "': " + os_reason(errno));
+  // stdio reports a full disk at fwrite, fflush or fclose, whichever writes the block.
+  const bool written = std::fwrite(text.data(), 1, text.size(), out) == text.size() && std::fflush(out) == 0;
+  const int err = errno;
+  const bool closed = std::fclose(out) == 0;
+  if (!written || !closed) throw Error("cannot write '" + path.string() + "': " + os_reason(written ? errno : err));
+  file.commit();
+}
+
 }  // namespace grainflow::io

@@ -3,6 +3,7 @@
 // truncated file under a finished-looking name (ARCHITECTURE.md, "Errors").
 #pragma once
 #include <filesystem>
+#include <string_view>
 
 namespace grainflow::io {
 
@@ -37,5 +38,10 @@ private:
   bool committed_ = false;
   bool active_ = false;
 };
+
+// Writes `text` to `path` through an AtomicFile: the whole file or nothing. A failed write
+// (a full disk) throws grainflow::Error naming the file and the OS reason ("no space left
+// on device"), and leaves the previous file in place.
+void write_text_atomically(const std::filesystem::path& path, std::string_view text);
 
 }  // namespace grainflow::io

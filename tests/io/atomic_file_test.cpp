@@ -4,6 +4,10 @@
 
 #include <fstream>
 #include <iterator>
+
+#include <sys/mount.h>
+#include <cerrno>
+#include <cstring>
 #include <string>
 
 #include "engine/core/error.hpp"
@@ -102,6 +106,35 @@ TEST(AtomicFile, DoubleCommitIsAnError) {
   f.commit();
   EXPECT_THROW(f.commit(), Error);
   EXPECT_TRUE(fs::exists(dir / "y"));
+}
+
+}  // namespace
+}  // namespace grainflow::io
+
+namespace grainflow::io {
+namespace {
+
+// A full disk is named as such, and the previous file stays (a small tmpfs; root only).
+TEST(WriteTextAtomically, FullDiskNamesTheFileAndKeepsThePreviousOne) {
+  const std::filesystem::path dir = std::filesystem::path(GRAINFLOW_TEST_OUT) / "full_disk";
+  std::filesystem::create_directories(dir);
+  if (::mount("tmpfs", dir.c_str(), "tmpfs", MS_NOSUID | MS_NODEV, "size=64k") != 0)
+    GTEST_SKIP() << "cannot mount a small tmpfs here: " << std::strerror(errno);
+  write_text_atomically(dir / "run.json", "previous\n");
+  try {
+    write_text_atomically(dir / "run.json", std::string(200 * 1024, 'x'));
+    ADD_FAILURE() << "a 200 kB file fitted a 64 kB disk";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("space left on device"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("run.json"), std::string::npos) << e.what();
+  }
+  std::ifstream in(dir / "run.json");
+  std::string text((std::istreambuf_iterator<char>(in)), {});
+  EXPECT_EQ(text, "previous\n");
+  std::size_t entries = 0;  // no temporary left beside it
+  for ([[maybe_unused]] const auto& e : std::filesystem::directory_iterator(dir)) ++entries;
+  EXPECT_EQ(entries, 1u);
+  ::umount2(dir.c_str(), MNT_DETACH);
 }
 
 }  // namespace

@@ -1,7 +1,6 @@
 #include "scenes/src/outputs/run_record.hpp"
 
 #include <ctime>
-#include <fstream>
 
 #include "engine/io/atomic_file.hpp"
 #include "engine/core/error.hpp"
@@ -90,14 +89,7 @@ std::string run_record_json(const RunRecord& r) {
 }
 
 void write_run_record(const RunRecord& r, const std::filesystem::path& path) {
-  io::AtomicFile file(path);
-  {
-    std::ofstream out(file.path(), std::ios::binary | std::ios::trunc);
-    out << run_record_json(r);
-    out.flush();
-    if (!out) throw Error("cannot write '" + path.string() + "': write failed (disk full?)");
-  }
-  file.commit();
+  io::write_text_atomically(path, run_record_json(r));
 }
 
 namespace {

@@ -135,15 +135,9 @@ void RunFolder::claim(std::string_view name) {
 }
 
 void RunFolder::write_manifest() const {
-  io::AtomicFile file(dir_ / kManifest);
-  {
-    std::ofstream out(file.path(), std::ios::binary | std::ios::trunc);
-    out << "# Files grainflow wrote in this folder; --force removes exactly these (and their temporaries).\n";
-    for (const auto& c : claimed_) out << c << "\n";
-    out.flush();
-    if (!out) throw Error("cannot write '" + (dir_ / kManifest).string() + "': write failed (disk full?)");
-  }
-  file.commit();
+  std::string text = "# Files grainflow wrote in this folder; --force removes exactly these (and their temporaries).\n";
+  for (const auto& c : claimed_) text += c + "\n";
+  io::write_text_atomically(dir_ / kManifest, text);
 }
 
 void RunFolder::abandon() noexcept {

@@ -212,14 +212,7 @@ std::vector<std::string> Scene::keys_read() const {
 }
 
 void write_effective_scene(const Scene& scene, const std::filesystem::path& path) {
-  io::AtomicFile file(path);
-  {
-    std::ofstream out(file.path(), std::ios::binary | std::ios::trunc);
-    out << scene.to_toml();
-    out.flush();
-    if (!out) throw Error("cannot write effective scene '" + path.string() + "': write failed (disk full?)");
-  }
-  file.commit();
+  io::write_text_atomically(path, scene.to_toml());
 }
 
 }  // namespace grainflow::scenes
