@@ -187,4 +187,23 @@ Image read_png(const std::filesystem::path& path) {
   return image;
 }
 
+std::pair<int, int> png_size(const std::filesystem::path& path) {
+  std::FILE* f = std::fopen(path.c_str(), "rb");
+  if (!f) throw Error("cannot open '" + path.string() + "': " + std::strerror(errno));
+  unsigned char h[24];
+  const bool whole = std::fread(h, 1, sizeof h, f) == sizeof h;
+  std::fclose(f);
+  static constexpr unsigned char kSignature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+  if (!whole || std::memcmp(h, kSignature, 8) != 0)
+    throw Error("'" + path.string() + "' is not a PNG file (no PNG signature)");
+  if (std::memcmp(h + 12, "IHDR", 4) != 0) throw Error("corrupt PNG '" + path.string() + "': no IHDR chunk first");
+  auto be32 = [&](int at) {
+    return (std::uint32_t(h[at]) << 24) | (std::uint32_t(h[at + 1]) << 16) | (std::uint32_t(h[at + 2]) << 8) | h[at + 3];
+  };
+  const std::uint32_t w = be32(16), ht = be32(20);
+  if (w == 0 || ht == 0 || w > (1u << 30) || ht > (1u << 30))
+    throw Error("corrupt PNG '" + path.string() + "': size " + std::to_string(w) + "x" + std::to_string(ht));
+  return {int(w), int(ht)};
+}
+
 }  // namespace grainflow::render

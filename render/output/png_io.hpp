@@ -3,6 +3,7 @@
 // converts it to the renderer's RGBA8 Image (SPEC.md §3, "Outputs").
 #pragma once
 #include <filesystem>
+#include <utility>
 
 #include "render/image/image.hpp"
 
@@ -26,5 +27,10 @@ void write_png(const std::filesystem::path& path, const Image& image, const PngO
 // alpha, missing alpha is 255. Throws grainflow::Error naming the path for a missing file,
 // a file that is not a PNG, or a corrupt/truncated one.
 Image read_png(const std::filesystem::path& path);
+
+// Width and height from the PNG header alone (signature and IHDR, 24 bytes), without
+// decoding: lets a caller refuse an image before reserving its pixels. Throws
+// grainflow::Error like read_png for a missing or non-PNG file.
+std::pair<int, int> png_size(const std::filesystem::path& path);
 
 }  // namespace grainflow::render

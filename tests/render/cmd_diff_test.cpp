@@ -105,6 +105,23 @@ TEST_F(DiffCommand, ErrorsExitTwo) {
   const CliRun size = grainflow("diff " + q(a) + " " + q(dir / "small.png"), dir);
   EXPECT_EQ(size.status, 2) << size.out;
   EXPECT_NE(size.out.find("20x10 vs 10x10"), std::string::npos) << size.out;
+  // A header claiming 20000 × 20000 pixels is refused from the header alone, without
+  // decoding (the file is a valid 20x10 PNG whose IHDR was rewritten).
+  {
+    std::string bytes;
+    {
+      std::ifstream in(a, std::ios::binary);
+      bytes.assign(std::istreambuf_iterator<char>(in), {});
+    }
+    for (int at : {16, 20}) bytes.replace(std::size_t(at), 4, std::string("\x00\x00\x4e\x20", 4));
+    std::ofstream(dir / "huge_a.png", std::ios::binary) << bytes;
+    std::ofstream(dir / "huge_b.png", std::ios::binary) << bytes;
+  }
+  const CliRun huge = grainflow("diff " + q(dir / "huge_a.png") + " " + q(dir / "huge_b.png"), dir);
+  EXPECT_EQ(huge.status, 2) << huge.out;
+  EXPECT_NE(huge.out.find("20000x20000; allowed: at most 16384"), std::string::npos) << huge.out;
+  const CliRun huge_vs_small = grainflow("diff " + q(dir / "huge_a.png") + " " + q(dir / "small.png"), dir);
+  EXPECT_NE(huge_vs_small.out.find("20000x20000 vs 10x10"), std::string::npos) << huge_vs_small.out;
   EXPECT_EQ(grainflow("diff " + q(a) + " " + q(b) + " --max-channel 300", dir).status, 2);
   EXPECT_EQ(grainflow("diff " + q(a), dir).status, 2);
 }

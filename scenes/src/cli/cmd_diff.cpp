@@ -5,6 +5,7 @@
 #include <memory>
 #include <string>
 
+#include "engine/core/error.hpp"
 #include "render/image/compare.hpp"
 #include "render/output/png_io.hpp"
 #include "scenes/src/cli/commands.hpp"
@@ -19,6 +20,17 @@ struct DiffArgs {
 };
 
 int run_diff(const DiffArgs& args) {
+  // Sizes from the headers first: two images of different sizes are not decoded at all,
+  // and an image too large to compare is refused before its pixels are reserved.
+  const auto sa = render::png_size(args.a), sb = render::png_size(args.b);
+  if (sa != sb)
+    throw Error("image comparison: sizes differ (" + std::to_string(sa.first) + "x" + std::to_string(sa.second) +
+                " vs " + std::to_string(sb.first) + "x" + std::to_string(sb.second) + ": " + args.a + ", " + args.b +
+                ")");
+  constexpr double kMaxPixels = 16384.0 * 16384.0;  // 1 GiB of RGBA per image
+  if (double(sa.first) * sa.second > kMaxPixels)
+    throw Error("the images are " + std::to_string(sa.first) + "x" + std::to_string(sa.second) +
+                "; allowed: at most 16384 × 16384 pixels");
   const render::Image a = render::read_png(args.a);
   const render::Image b = render::read_png(args.b);
   const render::CompareResult r = render::compare_images(a, b, args.options);
