@@ -23,33 +23,18 @@
 #include "engine/core/error.hpp"
 #include "engine/io/line_reader.hpp"
 #include "engine/io/particle_reader.hpp"
+#include "tests/io/reader_test_support.hpp"
 
 using namespace grainflow;
 using namespace grainflow::core;
 using namespace grainflow::io;
+using namespace grainflow::io::test;
 
 namespace {
 
-std::string data(const std::string& name) { return std::string(GRAINFLOW_TEST_DATA) + "/particles/" + name; }
 
-std::string out_path(const std::string& name) {
-  std::filesystem::create_directories(GRAINFLOW_TEST_OUT);
-  return std::string(GRAINFLOW_TEST_OUT) + "/" + name;
-}
 
-std::string write_temp(const std::string& name, const std::string& text) {
-  const std::string path = out_path(name);
-  std::ofstream(path, std::ios::binary) << text;
-  return path;
-}
 
-std::vector<ParticleFrame> read_all(const std::string& path) {
-  auto reader = open_particle_file(path);
-  std::vector<ParticleFrame> frames;
-  ParticleFrame f;
-  while (reader->next(f)) frames.push_back(f);
-  return frames;
-}
 
 // The message of the Error that reading `path` throws ("" and a test failure if none).
 std::string error_of(const std::string& path) {

@@ -11,30 +11,18 @@
 #include "engine/core/error.hpp"
 #include "engine/io/lammps_dump_reader.hpp"
 #include "engine/io/particle_reader.hpp"
+#include "tests/io/reader_test_support.hpp"
 #include "engine/io/xyz_reader.hpp"
 
 using namespace grainflow;
 using namespace grainflow::core;
 using namespace grainflow::io;
+using namespace grainflow::io::test;
 
 namespace {
 
-std::string data(const std::string& name) { return std::string(GRAINFLOW_TEST_DATA) + "/particles/" + name; }
 
-std::vector<ParticleFrame> read_all(const std::string& path) {
-  auto reader = open_particle_file(path);
-  std::vector<ParticleFrame> frames;
-  ParticleFrame f;
-  while (reader->next(f)) frames.push_back(f);
-  return frames;
-}
 
-std::string write_temp(const std::string& name, const std::string& text) {
-  std::filesystem::create_directories(GRAINFLOW_TEST_OUT);
-  const std::string path = std::string(GRAINFLOW_TEST_OUT) + "/" + name;
-  std::ofstream(path) << text;
-  return path;
-}
 
 // Reading `text` must throw an Error whose message starts with "path:line:" and contains
 // `fragment`.
