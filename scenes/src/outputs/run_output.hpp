@@ -42,6 +42,9 @@ public:
   virtual void frame(std::int64_t /*index*/, const render::Snapshot& /*snapshot*/) {}
   // Every stats row, in time order.
   virtual void stats(double /*time*/, std::span<const double> /*row*/) {}
+  // Every few seconds of a running run, with its figures so far (run.json refreshes, so
+  // that a killed run's record says how far it got).
+  virtual void progress(const RunRecord& /*record*/) {}
   // The run ended, complete or interrupted: every file is put in place under its name.
   virtual void finish(const RunRecord& record) = 0;
   // The run failed: nothing finished-looking is left behind (run.json says "failed").

@@ -99,6 +99,7 @@ class RunJsonOutput final : public RunOutput {
 public:
   explicit RunJsonOutput(std::filesystem::path file) : file_(std::move(file)) {}
   void start(const RunRecord& r) override { write_run_record(r, file_); }
+  void progress(const RunRecord& r) override { write_run_record(r, file_); }
   void finish(const RunRecord& r) override { write_run_record(r, file_); }
   void fail(const RunRecord& r) override { write_run_record(r, file_); }
 

@@ -139,6 +139,9 @@ public:
   void stats(double time, std::span<const double> row) {
     for (auto& o : data_) o->stats(time, row);
   }
+  void progress(const RunRecord& r) {
+    for (auto& o : data_) o->progress(r);
+  }
   void finish_images() { images_->finish(); }
   void finish(const RunRecord& r) {
     for (auto& o : data_) o->finish(r);
@@ -254,6 +257,9 @@ int run_scene(const Scene& scene, const RunOptions& opt) {
     const double slice = exposure / 20;
     const std::uint64_t step_slice = 1000;
     const double max_wall = scene.get(loop_keys::max_wall);
+    // run.json is refreshed this often while running: after a SIGKILL it says how far the run got.
+    constexpr double kRecordEvery = 10.0;
+    auto last_record = std::chrono::steady_clock::now();
     while (done() < target) {
       if (stop_requested()) {
         status = RunStatus::Interrupted;
@@ -282,6 +288,13 @@ int run_scene(const Scene& scene, const RunOptions& opt) {
         while (next_frame() <= t + eps) ++frames_due;
       }
       progress.update(done(), runner->work());
+      if (seconds_since(last_record) >= kRecordEvery) {
+        record.sim_time = runner->time();
+        record.frames = frame_index;
+        record.wall_time_s = seconds_since(wall_start);
+        out.progress(record);
+        last_record = std::chrono::steady_clock::now();
+      }
     }
     progress.finish(done(), runner->work());
     runner->check_finite();
