@@ -119,6 +119,22 @@ TEST(RunFolder, ForceDistrustsTheFileList) {
   EXPECT_EQ(slurp(d / "keep.txt"), "mine");
 }
 
+// Any file name a scene may have is claimed (spaces, UTF-8); names with line breaks or
+// outside the folder are refused with a message, not a crash.
+TEST(RunFolder, ClaimsAnyPlainFileName) {
+  const fs::path d = fresh("names");
+  {
+    RunFolder f = RunFolder::open(d, RunFolderMode::Fresh);
+    f.claim("Düne 2.mp4");
+    EXPECT_THROW(f.claim("a\nb.mp4"), grainflow::Error);
+    EXPECT_THROW(f.claim("../x.mp4"), grainflow::Error);
+    EXPECT_THROW(f.claim("/tmp/x.mp4"), grainflow::Error);
+  }
+  touch(d / "Düne 2.mp4");
+  RunFolder::open(d, RunFolderMode::Force);
+  EXPECT_FALSE(fs::exists(d / "Düne 2.mp4"));
+}
+
 // A start that fails leaves no trace: a folder it created is gone again.
 TEST(RunFolder, AbandonRemovesWhatTheFailedStartMade) {
   const fs::path d = fresh("abandoned") / "run";

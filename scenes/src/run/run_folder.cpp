@@ -1,6 +1,7 @@
 #include "scenes/src/run/run_folder.hpp"
 
 #include <fstream>
+#include <algorithm>
 #include <regex>
 #include <system_error>
 
@@ -28,11 +29,19 @@ std::string listing(const fs::path& dir) {
 }
 
 // A claim names a file in DIR or one folder below it, never outside: the manifest is
-// read back from disk and distrusted like any input.
+// read back from disk and distrusted like any input. Any file name is fine (a scene may be
+// called "Düne 2.toml") but for line breaks, which the one-name-a-line list cannot hold.
 bool valid_claim(std::string_view name) {
-  static const std::regex ok(R"(^[A-Za-z0-9_][A-Za-z0-9._-]*(/[A-Za-z0-9_][A-Za-z0-9._*-]*)?$)");
-  return name.size() < 256 && std::regex_match(name.begin(), name.end(), ok) &&
-         name.find("..") == std::string_view::npos;
+  if (name.empty() || name.size() > 255 || name.front() == '/') return false;
+  if (name.find_first_of(std::string_view("\n\r\0", 3)) != std::string_view::npos) return false;
+  int parts = 0;
+  for (std::size_t a = 0; a <= name.size(); ++parts) {
+    const std::size_t b = std::min(name.find('/', a), name.size());
+    const std::string_view part = name.substr(a, b - a);
+    if (part.empty() || part == "." || part == "..") return false;
+    a = b + 1;
+  }
+  return parts <= 2;
 }
 
 // Removes a claimed file with what its writers leave beside it: `<name>.partial`
@@ -127,7 +136,9 @@ RunFolder RunFolder::open(const fs::path& dir, RunFolderMode mode) {
 }
 
 void RunFolder::claim(std::string_view name) {
-  if (!valid_claim(name)) throw std::logic_error("RunFolder::claim: '" + std::string(name) + "' is outside the folder");
+  if (!valid_claim(name))
+    throw Error("cannot write '" + std::string(name) + "' in run folder '" + dir_.string() +
+                "': allowed: a file name without line breaks, in the folder or one folder below it");
   for (const auto& c : claimed_)
     if (c == name) return;
   claimed_.emplace_back(name);
