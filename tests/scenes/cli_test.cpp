@@ -322,6 +322,17 @@ TEST(CliRun, ScenesBeyondTheMachineAreRefusedWithTheEstimate) {
   }
 }
 
+// The cell grid costs memory whatever the density: a sparse box of 10 disks in 10^5 × 10^5
+// asks for 6.9e9 cells.
+TEST(CliRun, ACellGridBeyondTheEngineIsRefused) {
+  const fs::path dir = fresh_dir("run_sparse");
+  write_file(dir.parent_path() / "sparse.toml", "[run]\nengine = \"ed\"\nuntil = 1.0\n[system]\nbox = [1.0e5, 1.0e5]\nN = 10\n");
+  const Result r = run("run " + (dir.parent_path() / "sparse.toml").string() + " -o " + dir.string());
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_TRUE(contains(r.output, "6.94e+09 cells")) << r.output;
+  EXPECT_FALSE(fs::exists(dir));
+}
+
 // A state that turns non-finite ends "failed" naming the quantity, not "complete" with NaN.
 TEST(CliRun, NonFiniteStateFailsTheRun) {
   const fs::path out = fresh_dir("run_nonfinite");

@@ -72,6 +72,15 @@ void declare(Schema& s) {
     else if (const std::string short_of = memory_shortfall(disks, 256.0, "disks"); !short_of.empty())
       c.fail(key, short_of + "; allowed: a smaller system.box or density");
     const double cell = sc.get(cell_size);
+    // The cell grid (§2.2) costs memory whatever the density: ≈ 64 B a cell with its slots
+    // and calendar share; cells are counted by int.
+    const double cells = std::floor(L[0] / cell) * std::floor(L[1] / cell);
+    if (cells > double(std::numeric_limits<int>::max()))
+      c.fail(cell_size.path, fmt::format("system.box / system.cell_size gives {:.3g} cells; allowed: at most "
+                                         "2147483647 (a smaller box or larger cells)",
+                                         cells));
+    else if (const std::string short_of = memory_shortfall(cells, 64.0, "cells of the grid"); !short_of.empty())
+      c.fail(cell_size.path, short_of + "; allowed: a smaller system.box or a larger system.cell_size");
     if (cell * 3 > std::min(L[0], L[1]))
       c.fail(cell_size.path, "system.cell_size = " + toml_float(cell) +
                                  " leaves fewer than 3 cells across the box; allowed: cell_size ≤ min(Lx, Ly)/3");
