@@ -53,10 +53,18 @@ struct CellGrid {
 void fill_cells(CellGrid& g, const Particles& p, const Box& box, double cell_min) {
   for (int a = 0; a < 3; ++a) {
     g.nc[a] = std::max(1, static_cast<int>(std::floor(box.len[a] / cell_min)));
-    // Cap the cell count so a sparse huge box does not allocate a giant cell array.
     g.nc[a] = std::min(g.nc[a], 1 << 10);
-    g.inv[a] = g.nc[a] / box.len[a];
   }
+  // A sparse huge box must not allocate a giant cell array (two spheres in a 10 m box
+  // took 1024³ cells, 8.6 GB and 27 s): more cells than a few per particle only hold
+  // empty ones, so the grid is coarsened — cells stay at least cell_min wide, the pairs
+  // found are the same (the table's order does not depend on the grid).
+  const double limit = std::max(4096.0, 8.0 * double(p.n));
+  while (double(g.nc[0]) * g.nc[1] * g.nc[2] > limit) {
+    const int a = g.nc[0] >= g.nc[1] && g.nc[0] >= g.nc[2] ? 0 : g.nc[1] >= g.nc[2] ? 1 : 2;
+    g.nc[a] = std::max(1, g.nc[a] / 2);
+  }
+  for (int a = 0; a < 3; ++a) g.inv[a] = g.nc[a] / box.len[a];
   const std::size_t ncell = static_cast<std::size_t>(g.nc[0]) * g.nc[1] * g.nc[2];
   g.start.assign(ncell + 1, 0);
   g.cell_of.resize(p.n);
