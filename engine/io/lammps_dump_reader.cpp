@@ -59,8 +59,8 @@ bool LammpsDumpReader::next(ParticleFrame& f) {
         in_.fail("expected the timestep (one integer), got " + quote_token(trim(line)));
     } else if (item == "TIME") {
       split_ws(value_line(item), tokens_);
-      if (tokens_.size() != 1 || !parse_double(tokens_[0], f.time))
-        in_.fail("expected the time (one number), got " + quote_token(trim(line)));
+      if (tokens_.size() != 1 || !parse_double(tokens_[0], f.time) || !std::isfinite(f.time))
+        in_.fail("expected the time (one finite number), got " + quote_token(trim(line)));
     } else if (item == "UNITS") {
       value_line(item);
     } else if (item == "NUMBER OF ATOMS") {

@@ -214,7 +214,8 @@ bool XyzReader::next(ParticleFrame& f) {
       } else if (kv.key == "origin") {
         origin = parse_numbers(kv.value, 3, "Origin", in_);
       } else if (kv.key == "time") {
-        if (!parse_double(kv.value, f.time)) in_.fail("Time=" + printable(kv.value) + " is not a number");
+        if (!parse_double(kv.value, f.time) || !std::isfinite(f.time))
+          in_.fail("Time=" + printable(kv.value) + " is not a finite number");
       } else if (kv.key == "timestep" || kv.key == "step") {
         if (!parse_int64(kv.value, f.timestep))
           in_.fail(kv.key + "=" + printable(kv.value) + " is not an integer");

@@ -260,6 +260,7 @@ TEST(MalformedLammps, EveryCaseNamesFileAndLine) {
   expect_error("m6.lammpstrj", kDumpHead + atoms + "1 1 0.1 0.2 0.3 0.5\n2 1 0.1 0.2 0.3 0.5\n0\n", 12,
                "expected an 'ITEM:' header line");
   expect_error("m7.lammpstrj", "ITEM: TIMESTEP\nten\n", 2, "expected the timestep");
+  expect_error("m7t.lammpstrj", "ITEM: TIME\ninf\n", 2, "expected the time (one finite number)");
   expect_error("m8.lammpstrj", "ITEM: TIMESTEP\n0\nITEM: NUMBER OF ATOMS\n-3\n", 4, "non-negative integer");
   expect_error("m9.lammpstrj", "ITEM: TIMESTEP\n0\nITEM: NUMBER OF ATOMS\n2\nITEM: BOX BOUNDS pp pp pp\n0 1\n0\n", 7,
                "'lo hi' of the box along y");
@@ -300,6 +301,7 @@ TEST(MalformedXyz, EveryCaseNamesFileAndLine) {
   expect_error("x11.xyz", "2\nplain\nH 0 0 0 1\nH 0 0 0\n", 4, "expected 5 columns");
   expect_error("x13.xyz", "1\nx\n1 0 0 0\n1\nx\nC 0 0 0\n", 6, "not a type number");
   expect_error("x14.xyz", "1\n", 1, "file ends after the particle count");
-  expect_error("x15.xyz", "1\nTime=abc Properties=species:S:1:pos:R:3\nH 0 0 0\n", 2, "Time=abc is not a number");
+  expect_error("x15.xyz", "1\nTime=abc Properties=species:S:1:pos:R:3\nH 0 0 0\n", 2, "Time=abc is not a finite number");
   expect_error("x16.xyz", "1\npbc=\"T T\" Lattice=\"1 0 0 0 1 0 0 0 1\"\nH 0 0 0\n", 2, "expected three of T/F");
+  expect_error("x17.xyz", "1\nTime=nan Properties=species:S:1:pos:R:3\nH 0 0 0\n", 2, "Time=nan is not a finite number");
 }
