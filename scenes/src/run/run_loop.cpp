@@ -279,7 +279,6 @@ int run_scene(const Scene& scene, const RunOptions& opt) {
       if (t >= next_stats() - eps) {
         // Rows carry their scheduled time when the engine stopped there up to round-off.
         const double row_time = std::abs(t - next_stats()) <= eps ? next_stats() : t;
-        runner->check_finite();
         out.stats(row_time, runner->stats_row());
         while (next_stats() <= t + eps) ++stats_due;
       }

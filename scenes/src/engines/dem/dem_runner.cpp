@@ -329,20 +329,11 @@ public:
     return {"step", "N", "kinetic_energy", "rotational_energy", "potential_energy", "contacts", "coordination",
             "wall_force_bottom_z", "neighbour_builds"};
   }
-  void check_finite() const override {
-    const dem::Stats st = sim_.stats();
-    // A state that has turned non-finite (forces beyond what the time step can hold, an
-    // absurd gravity) would run on to "complete" with NaN everywhere: stop it as failed.
-    for (const auto& [name, v] : {std::pair{"kinetic energy", st.kinetic}, std::pair{"rotational energy", st.rotational},
-                                  std::pair{"potential energy", st.potential_gravity}})
-      if (!std::isfinite(v))
-        throw Error(fmt::format("dem: the state is no longer finite at t = {:.6g} s: {} = {} (check system.gravity, "
-                                "the stiffnesses and the time step)",
-                                sim_.time(), name, v));
-  }
+  void check_finite() const override { require_finite(sim_.stats()); }
 
   std::vector<double> stats_row() override {
     const dem::Stats st = sim_.stats();
+    require_finite(st);
     return {double(st.step),        double(sim_.size()), st.kinetic,           st.rotational,
             st.potential_gravity,   double(st.contacts), st.coordination,      st.wall_force[4].z(),
             double(st.neighbor_builds)};
@@ -368,6 +359,19 @@ public:
   }
 
 private:
+  // A state that has turned non-finite: see EngineRunner::check_finite.
+  void require_finite(const dem::Stats& st) const {
+    // A state that has turned non-finite (forces beyond what the time step can hold, an
+    // absurd gravity) would run on to "complete" with NaN everywhere: stop it as failed.
+    for (const auto& [name, v] : {std::pair{"kinetic energy", st.kinetic}, std::pair{"rotational energy", st.rotational},
+                                  std::pair{"potential energy", st.potential_gravity}})
+      if (!std::isfinite(v))
+        throw Error(fmt::format("dem: the state is no longer finite at t = {:.6g} s: {} = {} (check system.gravity, "
+                                "the stiffnesses and the time step)",
+                                sim_.time(), name, v));
+  }
+
+
   // Steps the engine, stopping every pair_every steps for the pair record when asked.
   void step(std::uint64_t n) {
     if (!pair_) return sim_.step(n);

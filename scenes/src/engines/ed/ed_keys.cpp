@@ -22,6 +22,14 @@ namespace {
 constexpr double kMaxAreaFraction = std::numbers::pi / (2.0 * std::numbers::sqrt3);
 }  // namespace
 
+double requested_area_fraction(const Scene& sc) {
+  const auto L = sc.get(box);
+  if (sc.has(area_fraction)) return sc.get(area_fraction);
+  if (sc.has(n)) return sc.get(n) * std::numbers::pi / 4;
+  if (sc.has(N)) return double(sc.get(N)) * std::numbers::pi / 4 / (L[0] * L[1]);
+  return 0.0;
+}
+
 void declare(Schema& s) {
   auto& sys = s.section("system", "2D hard disks: box, number of disks, collision rule (seed 003 §2, §3.4)");
   sys.add_float_array(box, {440.0, 440.0}, {"Lx", "Ly"}, "domain size; the stream flows along +x", "σ").above(0.0);
@@ -62,10 +70,7 @@ void declare(Schema& s) {
     const auto L = sc.get(box);
     // The disks the scene asks for, against the engine's limit and this machine's memory
     // (≈ 165 B a disk in the engine, more while the initial state is built: 256 B).
-    const double disks = sc.has(area_fraction) ? sc.get(area_fraction) * L[0] * L[1] / (std::numbers::pi / 4)
-                         : sc.has(n)           ? sc.get(n) * L[0] * L[1]
-                         : sc.has(N)           ? double(sc.get(N))
-                                               : 0.0;
+    const double disks = requested_area_fraction(sc) * L[0] * L[1] / (std::numbers::pi / 4);
     const char* key = sc.has(N) ? N.path.data() : sc.has(n) ? n.path.data() : area_fraction.path.data();
     if (disks > double(std::numeric_limits<int>::max()))
       c.fail(key, fmt::format("the scene asks for {:.3g} disks; allowed: at most 2147483647 (2^31 − 1)", disks));

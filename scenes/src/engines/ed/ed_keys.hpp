@@ -8,6 +8,10 @@
 
 #include "scenes/src/scene/schema.hpp"
 
+namespace grainflow::scenes {
+class Scene;
+}
+
 namespace grainflow::scenes::ed_keys {
 
 inline constexpr Key<std::array<double, 2>> box{"system.box"};
@@ -34,6 +38,10 @@ inline constexpr Key<double> obstacle_r{"boundary.obstacle.r"};
 inline constexpr Key<std::string> stream_kind{"boundary.stream.kind"};
 inline constexpr Key<double> filter_distance{"boundary.stream.filter_distance"};
 inline constexpr Key<std::string> piston{"boundary.stream.piston"};
+
+// The area fraction the scene asks for, from whichever of area_fraction, n or N it gives
+// (0 when none): the one conversion the cross-checks use.
+double requested_area_fraction(const Scene& sc);
 
 // Declares [system], [boundary], [boundary.obstacle], [boundary.stream] and their checks.
 void declare(Schema& s);

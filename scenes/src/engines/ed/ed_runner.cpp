@@ -146,18 +146,16 @@ public:
     for (const char* name : {"inserted", "removed", "N_frozen"}) c.emplace_back(name);
     return c;
   }
-  void check_finite() const override {
-    if (!std::isfinite(sim_.kinetic_energy()))
-      throw Error(fmt::format("ed: the state is no longer finite at t = {:.6g}: kinetic energy = {}", sim_.time(),
-                              sim_.kinetic_energy()));
-  }
+  void check_finite() const override { require_finite(sim_.kinetic_energy()); }
 
   std::vector<double> stats_row() override {
     const ed::Observables o = sim_.observables();
     sim_.synchronise();
     const Vec2 p = sim_.momentum();
+    const double kinetic = sim_.kinetic_energy();
+    require_finite(kinetic);
     std::vector<double> row = {double(sim_.stats().collisions), double(sim_.stats().events), double(sim_.count()),
-                               sim_.kinetic_energy(), o.kT, o.pressure, o.mean_free_time, p.x(), p.y()};
+                               kinetic, o.kT, o.pressure, o.mean_free_time, p.x(), p.y()};
     for (const auto& a : agents_) a->stats_row(o.duration, row);
     // N: disks present; inserted/removed: disks that entered/left through open stream
     // boundaries since the start; N_frozen: of N, those frozen by the filter (§3.3).
@@ -198,6 +196,13 @@ public:
   }
 
 private:
+  // A state that has turned non-finite: see EngineRunner::check_finite.
+  void require_finite(double kinetic) const {
+    if (!std::isfinite(kinetic))
+      throw Error(fmt::format("ed: the state is no longer finite at t = {:.6g}: kinetic energy = {}", sim_.time(),
+                              kinetic));
+  }
+
   // Bins an agent covers (inside the obstacle, beyond the outlet filter) hold no gas:
   // masked, not "empty" (seed 003 draws the obstacle over its fields).
   void mask_solid_bins(render::Snapshot& s) const {

@@ -46,11 +46,7 @@ void declare_keys(Schema& s) {
         c.fail(filter_distance.path,
                "boundary.stream.filter_distance = " + toml_float(fd) + " leaves no stream before the filter; allowed: "
                "filter_distance < Lx/2 = " + toml_float(L[0] / 2));
-      const double eta = sc.has(area_fraction) ? sc.get(area_fraction)
-                         : sc.has(n)             ? sc.get(n) * std::numbers::pi / 4
-                         : sc.has(N) ? double(sc.get(N)) * std::numbers::pi / 4 /
-                                                    (L[0] * L[1])
-                                              : 0.0;
+      const double eta = requested_area_fraction(sc);
       if (eta >= std::numbers::pi / 4)
         c.fail(area_fraction.path, "area fraction " + toml_float(eta) +
                                            " with boundary.stream.kind = \"dispenser_filter\": the dispenser's "
