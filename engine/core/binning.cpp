@@ -219,3 +219,38 @@ BinnedFields bin_frame(const ParticleFrame& frame, const BinningOptions& options
 }
 
 }  // namespace grainflow::core
+
+namespace grainflow::core {
+
+BinAccumulator::State BinAccumulator::state() const {
+  State st{dim_, frames_, frame_vel_, frame_rad_, all_vel_, all_rad_, all_slab_, slab_sum_, outside_,
+           count_, mass_, vol_, speed_, msq_, {}};
+  st.mom.reserve(3 * mom_.size());
+  for (const Vec3& m : mom_) st.mom.insert(st.mom.end(), {m.x(), m.y(), m.z()});
+  return st;
+}
+
+void BinAccumulator::set_state(const State& st) {
+  const std::size_t n = count_.size();
+  if (st.count.size() != n || st.mass.size() != n || st.vol.size() != n || st.speed.size() != n ||
+      st.msq.size() != n || st.mom.size() != 3 * n)
+    throw Error("binned fields of " + std::to_string(st.count.size()) + " bins cannot be restored into " +
+                std::to_string(n) + " bins");
+  dim_ = st.dim;
+  frames_ = st.frames;
+  frame_vel_ = st.frame_vel;
+  frame_rad_ = st.frame_rad;
+  all_vel_ = st.all_vel;
+  all_rad_ = st.all_rad;
+  all_slab_ = st.all_slab;
+  slab_sum_ = st.slab_sum;
+  outside_ = st.outside;
+  count_ = st.count;
+  mass_ = st.mass;
+  vol_ = st.vol;
+  speed_ = st.speed;
+  msq_ = st.msq;
+  for (std::size_t i = 0; i < n; ++i) mom_[i] = Vec3(st.mom[3 * i], st.mom[3 * i + 1], st.mom[3 * i + 2]);
+}
+
+}  // namespace grainflow::core

@@ -75,6 +75,20 @@ public:
   // Particle-samples per bin.
   std::vector<std::uint64_t> counts() const { return count_; }
 
+  // Everything accumulated so far (for checkpoints: io::save/io::load in
+  // engine/io/archive.hpp); set_state takes back what state() gave under the same options.
+  struct State {
+    int dim = 0, frames = 0;
+    bool frame_vel = false, frame_rad = false, all_vel = true, all_rad = true, all_slab = true;
+    double slab_sum = 0.0;
+    std::uint64_t outside = 0;
+    std::vector<std::uint64_t> count;
+    std::vector<double> mass, vol, speed, msq;
+    std::vector<double> mom;  // 3 per bin
+  };
+  State state() const;
+  void set_state(const State& st);  // throws grainflow::Error when the bin counts differ
+
 private:
   void require_velocity(const char* what) const;
   void check_dim(int dim);

@@ -3,6 +3,7 @@
 // search, 1 vs 2 threads) can be compared from their run.json alone.
 #pragma once
 #include <bit>
+#include <cstddef>
 #include <cstdint>
 #include <cstdio>
 #include <span>
@@ -21,6 +22,13 @@ public:
   void add(double x) { add(std::bit_cast<std::uint64_t>(x)); }
   void add(std::span<const double> xs) {
     for (double x : xs) add(x);
+  }
+  // Raw bytes (the checkpoint container's checksum).
+  void add_bytes(std::span<const std::byte> bytes) {
+    for (std::byte b : bytes) {
+      h_ ^= static_cast<std::uint64_t>(b);
+      h_ *= 0x100000001b3ull;
+    }
   }
   std::uint64_t value() const { return h_; }
   std::string hex() const {

@@ -74,32 +74,24 @@ void write_xyz_frame(std::ostream& out, const ParticleFrame& frame) {
   out << s;
 }
 
-XyzWriter::XyzWriter(const std::string& path) : file_(path) {
-  out_ = std::fopen(file_.path().c_str(), "wb");
-  if (!out_) throw Error(file_.path().string() + ": cannot open for writing (" + std::strerror(errno) + ")");
-}
+XyzWriter::XyzWriter(const std::string& path) : file_(PartialFile::create(path)) {}
 
-XyzWriter::~XyzWriter() {
-  if (out_) std::fclose(out_);  // without close() the AtomicFile discards the temporary
-}
+XyzWriter::XyzWriter(const std::string& path, std::uint64_t resume_size, int resume_frames)
+    : file_(PartialFile::resume(path, resume_size)), frames_(resume_frames) {}
 
 void XyzWriter::write(const ParticleFrame& frame) {
-  if (!out_) throw Error(file_.final_path().string() + ": XYZ write after close()");
+  if (file_.finished()) throw Error(file_.final_path().string() + ": XYZ write after close()");
   buf_.clear();
   format_frame(buf_, frame);
-  if (std::fwrite(buf_.data(), 1, buf_.size(), out_) != buf_.size())
-    throw Error(file_.final_path().string() + ": write failed (" + std::strerror(errno) + ")");
+  file_.write(buf_);
   ++frames_;
 }
 
-void XyzWriter::close() {
-  if (!out_) return;
-  const bool ok = std::fflush(out_) == 0;
-  const int err = errno;
-  std::fclose(out_);
-  out_ = nullptr;
-  if (!ok) throw Error(file_.final_path().string() + ": write failed (" + std::strerror(err) + ")");
-  file_.commit();
+std::uint64_t XyzWriter::flush() {
+  file_.flush();
+  return file_.size();
 }
+
+void XyzWriter::close() { file_.finish(); }
 
 }  // namespace grainflow::io

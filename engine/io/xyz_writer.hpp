@@ -6,7 +6,7 @@
 #include <ostream>
 #include <string>
 
-#include "engine/io/atomic_file.hpp"
+#include "engine/io/partial_file.hpp"
 #include "engine/core/particle_frame.hpp"
 
 namespace grainflow::io {
@@ -21,13 +21,17 @@ using core::ParticleFrame;  // the in-memory frame the binning grid also consume
 // column names are written as '_'.
 void write_xyz_frame(std::ostream& out, const ParticleFrame& frame);
 
-// Multi-frame file writer through AtomicFile: frames go to a temporary file that close()
-// renames to PATH, so a killed run never leaves a truncated file under the final name.
-// Destroying the writer without close() discards the temporary file.
+// Multi-frame file writer through PartialFile: frames go to PATH.partial, which close()
+// renames to PATH, so a killed run never leaves a truncated file under the final name; a
+// writer destroyed without close() (a killed or failed run) leaves the .partial with the
+// frames written so far, and a resumed run continues it from its checkpoint's size.
 class XyzWriter {
 public:
   explicit XyzWriter(const std::string& path);
-  ~XyzWriter();
+  XyzWriter(const std::string& path, std::uint64_t resume_size, int resume_frames);
+  ~XyzWriter() = default;
+  // Flushes; the bytes written so far (what a checkpoint records).
+  std::uint64_t flush();
   XyzWriter(const XyzWriter&) = delete;
   XyzWriter& operator=(const XyzWriter&) = delete;
 
@@ -36,8 +40,7 @@ public:
   int frames() const { return frames_; }
 
 private:
-  AtomicFile file_;
-  std::FILE* out_ = nullptr;
+  PartialFile file_;
   int frames_ = 0;
   std::string buf_;
 };
