@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include "engine/core/error.hpp"
+#include "engine/io/archive.hpp"
 
 namespace grainflow::ed {
 
@@ -39,6 +40,28 @@ int CellGrid::cell_of_point(double x, double y) const {
   const int ix = std::clamp(static_cast<int>(std::floor(x / w_)), 0, nx_ - 1);
   const int iy = std::clamp(static_cast<int>(std::floor(y / h_)), 0, ny_ - 1);
   return index(ix, iy);
+}
+
+void CellGrid::save_members(io::ArchiveWriter& w) const {
+  w.pod(static_cast<std::int32_t>(nx_));
+  w.pod(static_cast<std::int32_t>(ny_));
+  w.pod(static_cast<std::int32_t>(cap_));
+  w.array(slots_);
+  w.array(cell_);
+  w.array(pos_);
+}
+
+CellGrid::Members CellGrid::read_members(io::ArchiveReader& r, int n_disks) const {
+  const auto nx = r.get<std::int32_t>(), ny = r.get<std::int32_t>(), cap = r.get<std::int32_t>();
+  if (nx != nx_ || ny != ny_ || cap != cap_)
+    r.mismatch(fmt::format("the cell grid has {} x {} cells of up to {} disks in the archive, {} x {} of up to {} "
+                           "here (another box, cell size or disk diameter)",
+                           nx, ny, cap, nx_, ny_, cap_));
+  Members m;
+  r.array_of(m.slots, slots_.size(), "the cell slot blocks");
+  r.array_of(m.cell, static_cast<std::size_t>(n_disks), "the disks' cells");
+  r.array_of(m.pos, static_cast<std::size_t>(n_disks), "the disks' places in their cells");
+  return m;
 }
 
 }  // namespace grainflow::ed

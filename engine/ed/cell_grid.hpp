@@ -7,6 +7,11 @@
 
 #include "engine/ed/huge_pages.hpp"
 
+namespace grainflow::io {
+class ArchiveWriter;
+class ArchiveReader;
+}  // namespace grainflow::io
+
 namespace grainflow::ed {
 
 class CellGrid {
@@ -90,6 +95,23 @@ public:
     });
   }
   std::size_t memory_bytes() const { return (slots_.capacity() + cell_.capacity() + pos_.capacity()) * 4; }
+
+  // ---- checkpoints: the membership arrays verbatim (the order of a cell's members is the
+  // order its neighbourhood is scanned in, which decides ties); the geometry is rebuilt
+  // from the configuration and only compared.
+  struct Members {
+    HugeVector<std::int32_t> slots, cell, pos;
+  };
+  void save_members(io::ArchiveWriter& w) const;
+  // Reads what save_members wrote for n_disks disk slots; throws grainflow::Error (the
+  // reader's mismatch) for another geometry or (corrupt) arrays of other sizes. Whether
+  // the members agree with the disks' slot states is for the caller to check.
+  Members read_members(io::ArchiveReader& r, int n_disks) const;
+  void adopt_members(Members&& m) noexcept {
+    slots_.swap(m.slots);
+    cell_.swap(m.cell);
+    pos_.swap(m.pos);
+  }
 
 private:
   // Calls f(first, last) for each row of the 3×3 block around cell c: the cells first..last

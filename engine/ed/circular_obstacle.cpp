@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "engine/ed/checkpoint.hpp"
 #include "engine/ed/system_state.hpp"
 
 namespace grainflow::ed {
@@ -53,6 +54,19 @@ void CircularObstacle::action(SystemState& s, int i) {
   impulse_ -= s.disk[i].m * Vec2{vx - d.vx, vy - d.vy};
   ++hits_;
   s.set_velocity(i, vx, vy);
+}
+
+// Its random stream and the momentum and hits it has received (the drag measurement).
+void CircularObstacle::save(io::ArchiveWriter& w) const {
+  w.rng(rng_);
+  checkpoint::write_vec2(w, impulse_);
+  w.pod(hits_);
+}
+
+void CircularObstacle::load(io::ArchiveReader& r) {
+  r.rng(rng_);
+  impulse_ = checkpoint::read_vec2(r);
+  r.pod(hits_);
 }
 
 }  // namespace grainflow::ed

@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 
 #include "engine/core/error.hpp"
+#include "engine/ed/checkpoint.hpp"
 #include "engine/ed/system_state.hpp"
 
 namespace grainflow::ed {
@@ -100,6 +101,28 @@ void DispenserPiston::recharge(SystemState& s) {
     const std::int32_t* m = s.grid.members(c);
     for (int n = 0, cnt = s.grid.count(c); n < cnt; ++n) s.repredict(m[n]);
   }
+}
+
+// The cycle (start, recharge time), the fractional disk owed, the random stream and the
+// counters. The cell list and gap scratch are rebuilt (the same cells) or overwritten.
+void DispenserPiston::save(io::ArchiveWriter& w) const {
+  w.pod(t_cycle_);
+  w.pod(t_recharge_);
+  w.pod(owed_);
+  w.rng(rng_);
+  w.pod(hits_);
+  w.pod(cycles_);
+  w.pod(impulse_x_);
+}
+
+void DispenserPiston::load(io::ArchiveReader& r) {
+  r.pod(t_cycle_);
+  r.pod(t_recharge_);
+  r.pod(owed_);
+  r.rng(rng_);
+  r.pod(hits_);
+  r.pod(cycles_);
+  r.pod(impulse_x_);
 }
 
 }  // namespace grainflow::ed

@@ -32,6 +32,8 @@ public:
   void cells(const CellGrid& grid, std::vector<int>& out) const override;
   double event_time(const SystemState& state, int i) const override;
   void action(SystemState& state, int i) override;
+  void save(io::ArchiveWriter& w) const override;
+  void load(io::ArchiveReader& r) override;
 
   double strip() const { return strip_; }               // width swept per cycle (one diameter)
   double position(double t) const { return cfg_.U * (t - t_cycle_); }
@@ -64,6 +66,9 @@ public:
   std::string_view name() const override { return "dispenser recharge"; }
   double event_time(const SystemState&) const override { return piston_.recharge_time(); }
   void action(SystemState& state) override { piston_.recharge(state); }
+  // Nothing of its own: its clock is the piston's recharge time, saved with the piston.
+  void save(io::ArchiveWriter&) const override {}
+  void load(io::ArchiveReader&) override {}
 
 private:
   DispenserPiston& piston_;

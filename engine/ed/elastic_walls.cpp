@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "engine/ed/checkpoint.hpp"
 #include "engine/ed/system_state.hpp"
 
 namespace grainflow::ed {
@@ -42,6 +43,17 @@ void ElasticWalls::action(SystemState& s, int i) {
   impulse_x_ -= s.disk[i].m * (vx - d.vx);
   impulse_y_ -= s.disk[i].m * (vy - d.vy);
   s.set_velocity(i, vx, vy);
+}
+
+// The momentum given to the walls so far (wall pressure); the walls themselves are fixed.
+void ElasticWalls::save(io::ArchiveWriter& w) const {
+  w.pod(impulse_x_);
+  w.pod(impulse_y_);
+}
+
+void ElasticWalls::load(io::ArchiveReader& r) {
+  r.pod(impulse_x_);
+  r.pod(impulse_y_);
 }
 
 }  // namespace grainflow::ed

@@ -14,6 +14,8 @@ public:
   void cells(const CellGrid& grid, std::vector<int>& out) const override;
   double event_time(const SystemState& state, int i) const override;
   void action(SystemState& state, int i) override;
+  void save(io::ArchiveWriter& w) const override;
+  void load(io::ArchiveReader& r) override;
 
   // Momentum given to the walls so far (Σ of −Δp of the disks), for wall pressure.
   double impulse_x() const { return impulse_x_; }

@@ -24,6 +24,12 @@ public:
   virtual ~EventLoopBase() = default;
   // Predicts every disk and timer and fills the calendar (call after any bulk change).
   virtual void start() = 0;
+  // Rebuilds the calendar from the event records as they stand, predicting nothing (after
+  // SystemState::restore, a checkpoint): both calendars pop in the total order of
+  // (key, entry index), which the records alone decide, so the restored run continues
+  // bit for bit. Changes made from outside and saved unsettled are settled, as always,
+  // when the next run starts.
+  virtual void resume() = 0;
   // Processes every event with time ≤ t, then sets the clock to t.
   virtual void run_until(double t) = 0;
   // The same, but stops after `max_events` events (the clock then stays at the last
@@ -53,6 +59,10 @@ public:
     s_.clear_touched();
     for (int a = 0; a < nt; ++a) s_.event[n + a].key = std::max(s_.now(), s_.timers[a]->event_time(s_));
     cal_.reset(s_.calendar_keys(), &s_.grid, n, nt);
+  }
+
+  void resume() override {
+    cal_.reset(s_.calendar_keys(), &s_.grid, s_.size(), static_cast<int>(s_.timers.size()));
   }
 
   void run_until(double t) override {

@@ -1,9 +1,22 @@
 // The event-source interface of seed 003 §2.5: every agent other than disk–disk pairs and
 // cell walls (which are the engine's built-in fast path) provides event_time() and
 // action(). Agents are registered with the engine once; the event loop never names them.
+//
+// Checkpoints (Simulation::save_state / load_state): every agent writes its mutable state
+// with save() — random streams, positions, counters, accumulators, queued results — and
+// reads it back with load(), the same values in the same order. Its configuration is not
+// saved: a restored simulation constructs its agents again the same way. An agent without
+// mutable state implements both empty and says why. load() may throw grainflow::Error
+// (through the reader: a truncated archive, one that does not fit); the simulation then
+// puts every agent back as it was.
 #pragma once
 #include <string_view>
 #include <vector>
+
+namespace grainflow::io {
+class ArchiveWriter;
+class ArchiveReader;
+}  // namespace grainflow::io
 
 namespace grainflow::ed {
 
@@ -24,6 +37,9 @@ public:
   // Acts on disk i at state.now(); the disk is synchronised. Velocities are changed only
   // through SystemState::set_velocity so energy/momentum books and event counters stay right.
   virtual void action(SystemState& state, int i) = 0;
+  // Mutable state for checkpoints (see the top of this file).
+  virtual void save(io::ArchiveWriter& w) const = 0;
+  virtual void load(io::ArchiveReader& r) = 0;
 };
 
 // An agent with its own clock: sampler, thermostat, progress reporter.
@@ -36,6 +52,11 @@ public:
   // Called at state.now() == the time returned by event_time(). Disks are not synchronised
   // (use SystemState::position_now / set_velocity).
   virtual void action(SystemState& state) = 0;
+  // Mutable state for checkpoints (see the top of this file). The time of the next action
+  // already scheduled is kept in the engine's event records, not asked again on load; the
+  // later event_time() calls must follow from the state load() restores.
+  virtual void save(io::ArchiveWriter& w) const = 0;
+  virtual void load(io::ArchiveReader& r) = 0;
 };
 
 }  // namespace grainflow::ed

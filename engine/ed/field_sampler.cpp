@@ -1,11 +1,17 @@
 #include "engine/ed/field_sampler.hpp"
 
 #include <cmath>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
 
 #include <fmt/format.h>
 
 #include "engine/core/error.hpp"
+#include "engine/ed/checkpoint.hpp"
 #include "engine/ed/system_state.hpp"
+#include "engine/io/archive.hpp"
 
 namespace grainflow::ed {
 
@@ -15,6 +21,61 @@ core::BinningOptions options(const SamplerConfig& c) {
   o.grid = c.grid;
   return o;
 }
+
+// ---- completed frames ---------------------------------------------------------------------
+void write_grid(io::ArchiveWriter& w, const core::GridGeometry& g) {
+  w.pod(static_cast<std::int32_t>(g.nx));
+  w.pod(static_cast<std::int32_t>(g.ny));
+  checkpoint::write_vec2(w, g.lo);
+  checkpoint::write_vec2(w, g.hi);
+}
+core::GridGeometry read_grid(io::ArchiveReader& r) {
+  core::GridGeometry g;
+  g.nx = r.get<std::int32_t>();
+  g.ny = r.get<std::int32_t>();
+  g.lo = checkpoint::read_vec2(r);
+  g.hi = checkpoint::read_vec2(r);
+  if (g.nx < 0 || g.ny < 0) r.corrupt(fmt::format("a sampled field has {} x {} bins", g.nx, g.ny));
+  return g;
+}
+
+void write_field(io::ArchiveWriter& w, const core::ScalarField& f) {
+  write_grid(w, f.grid);
+  w.array(f.values);
+  w.array(f.mask);
+}
+void write_field(io::ArchiveWriter& w, const core::VectorField& f) {
+  write_grid(w, f.grid);
+  std::vector<double> flat;
+  flat.reserve(2 * f.values.size());
+  for (const Vec2& v : f.values) flat.insert(flat.end(), {v.x(), v.y()});
+  w.array(flat);
+  w.array(f.mask);
+}
+void read_field(io::ArchiveReader& r, core::ScalarField& f) {
+  f.grid = read_grid(r);
+  r.array_of(f.values, f.grid.size(), "a sampled field's values");
+  r.array_of(f.mask, f.grid.size(), "a sampled field's mask");
+}
+void read_field(io::ArchiveReader& r, core::VectorField& f) {
+  f.grid = read_grid(r);
+  std::vector<double> flat;
+  r.array_of(flat, 2 * f.grid.size(), "a sampled field's vectors");
+  f.values.resize(f.grid.size());
+  for (std::size_t b = 0; b < f.values.size(); ++b) f.values[b] = Vec2(flat[2 * b], flat[2 * b + 1]);
+  r.array_of(f.mask, f.grid.size(), "a sampled field's mask");
+}
+template <class F>
+void write_optional(io::ArchiveWriter& w, const std::optional<F>& f) {
+  w.flag(f.has_value());
+  if (f) write_field(w, *f);
+}
+template <class F>
+void read_optional(io::ArchiveReader& r, std::optional<F>& f) {
+  f.reset();
+  if (r.flag("a sampled field's presence flag")) read_field(r, f.emplace());
+}
+
 }  // namespace
 
 FieldSampler::FieldSampler(const SamplerConfig& cfg, double t_start)
@@ -61,6 +122,53 @@ void FieldSampler::action(SystemState& s) {
     frames_.push_back(std::move(f));
     acc_.reset();
     t_begin_ = s.now();
+  }
+}
+
+void FieldSampler::save(io::ArchiveWriter& w) const {
+  w.pod(static_cast<std::int32_t>(per_exposure_));
+  w.pod(static_cast<std::int32_t>(cfg_.grid.nx));
+  w.pod(static_cast<std::int32_t>(cfg_.grid.ny));
+  w.pod(t_start_);
+  w.pod(static_cast<std::int64_t>(k_));
+  w.pod(t_begin_);
+  io::save(w, acc_);
+  w.pod(static_cast<std::uint64_t>(frames_.size()));
+  for (const ExposureFields& f : frames_) {
+    w.pod(f.t_begin);
+    w.pod(f.t_end);
+    w.pod(static_cast<std::int32_t>(f.samples));
+    write_field(w, f.fields.density);
+    write_optional(w, f.fields.fraction);
+    write_optional(w, f.fields.mean_velocity);
+    write_optional(w, f.fields.temperature);
+    write_optional(w, f.fields.mean_speed);
+  }
+}
+
+void FieldSampler::load(io::ArchiveReader& r) {
+  const auto per = r.get<std::int32_t>();
+  const auto nx = r.get<std::int32_t>(), ny = r.get<std::int32_t>();
+  if (per != per_exposure_ || nx != cfg_.grid.nx || ny != cfg_.grid.ny)
+    r.mismatch(fmt::format("the sampler takes {} samples per exposure on {} x {} bins in the archive, {} on {} x {} "
+                           "here", per, nx, ny, per_exposure_, cfg_.grid.nx, cfg_.grid.ny));
+  r.pod(t_start_);
+  k_ = static_cast<long long>(r.get<std::int64_t>());
+  r.pod(t_begin_);
+  io::load(r, acc_);
+  const auto n = r.get<std::uint64_t>();
+  // A frame costs more than 64 bytes: a corrupt count cannot reserve much.
+  if (n > r.left() / 64) r.corrupt(fmt::format("{} sampled frames in {} bytes", n, r.left()));
+  frames_.assign(static_cast<std::size_t>(n), ExposureFields{});
+  for (ExposureFields& f : frames_) {
+    r.pod(f.t_begin);
+    r.pod(f.t_end);
+    f.samples = r.get<std::int32_t>();
+    read_field(r, f.fields.density);
+    read_optional(r, f.fields.fraction);
+    read_optional(r, f.fields.mean_velocity);
+    read_optional(r, f.fields.temperature);
+    read_optional(r, f.fields.mean_speed);
   }
 }
 

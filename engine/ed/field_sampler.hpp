@@ -30,6 +30,9 @@ public:
   std::string_view name() const override { return "sampler"; }
   double event_time(const SystemState& state) const override;
   void action(SystemState& state) override;
+  // The sample clock, the partial exposure's sums and the completed frames not yet taken.
+  void save(io::ArchiveWriter& w) const override;
+  void load(io::ArchiveReader& r) override;
 
   // Completed exposures, oldest first; take_frames() hands them over and clears the list.
   const std::vector<ExposureFields>& frames() const { return frames_; }

@@ -63,6 +63,7 @@ Simulation::~Simulation() = default;
 
 void Simulation::build(std::vector<DiskInit> disks) {
   const int n = static_cast<int>(disks.size());
+  n_built_ = n;
   double dmax = 0.0, dmin = kNever;
   for (int i = 0; i < n; ++i) {
     const DiskInit& d = disks[i];

@@ -14,6 +14,11 @@
 #include "engine/ed/initial_state.hpp"
 #include "engine/ed/system_state.hpp"
 
+namespace grainflow::io {
+class ArchiveWriter;
+class ArchiveReader;
+}  // namespace grainflow::io
+
 namespace grainflow::ed {
 
 enum class CalendarKind {
@@ -126,12 +131,33 @@ public:
   const char* calendar() const { return loop_->calendar_name(); }
   std::size_t memory_bytes() const;  // engine state incl. calendar, excluding agents
 
+  // ---- checkpoints --------------------------------------------------------------------
+  // Writes the complete mutable state — SystemState (disks at their own times, counters,
+  // slots, free list, event records, cell membership, books, stats, unsettled outside
+  // changes) and every agent's and timer's save() — so that a simulation restored from it
+  // continues bit for bit, as if never interrupted. Call between runs (not from inside an
+  // agent's action). The configuration is not saved, only what must match: box and
+  // boundaries, collision rule, cell size, calendar kind, the number of disks built with,
+  // the cell grid, and the agents' and timers' names in order.
+  void save_state(io::ArchiveWriter& w) const;
+  // Restores such a state into a simulation constructed the same way (same Config, same
+  // disks count, the same agents and timers added in the same order; run or not: all
+  // mutable state is overwritten, the disk arrays take the saved size, grown by open
+  // boundaries or not). The calendar is rebuilt from the saved event records without
+  // predicting anything. Throws grainflow::Error when the archive does not fit — another
+  // box, boundaries, collision rule, cell grid, disk count or calendar kind ("does not
+  // match"), other agents or timers or another order, inconsistent arrays ("is corrupt"),
+  // a truncated archive ("is truncated") — and leaves the simulation as it was.
+  // Reads up to the end of this state, not necessarily of the archive.
+  void load_state(io::ArchiveReader& r);
+
 private:
   void build(std::vector<DiskInit> disks);
   void restart();
   void compact(const std::vector<int>& kept);
 
   Config cfg_;
+  int n_built_ = 0;  // disks given to build() (checkpoints compare it)
   SystemState s_;
   std::unique_ptr<EventLoopBase> loop_;
 };

@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include "engine/core/error.hpp"
+#include "engine/ed/checkpoint.hpp"
 #include "engine/ed/system_state.hpp"
 
 namespace grainflow::ed {
@@ -47,6 +48,19 @@ void StreamFilter::action(SystemState& s, int i) {
     ++frozen_;
     s.freeze(i, cfg_.U, 0.0);
   }
+}
+
+// Its random stream and counters; the plane and flux distribution are configuration.
+void StreamFilter::save(io::ArchiveWriter& w) const {
+  w.rng(rng_);
+  w.pod(turned_);
+  w.pod(frozen_);
+}
+
+void StreamFilter::load(io::ArchiveReader& r) {
+  r.rng(rng_);
+  r.pod(turned_);
+  r.pod(frozen_);
 }
 
 }  // namespace grainflow::ed

@@ -30,6 +30,8 @@ public:
   void cells(const CellGrid& grid, std::vector<int>& out) const override;
   double event_time(const SystemState& state, int i) const override;
   void action(SystemState& state, int i) override;
+  void save(io::ArchiveWriter& w) const override;
+  void load(io::ArchiveReader& r) override;
 
   double plane() const { return xf_; }
   double turn_back_probability() const { return flux_.turn_back_probability(); }

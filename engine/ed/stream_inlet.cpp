@@ -6,6 +6,7 @@
 
 #include "engine/core/error.hpp"
 #include "engine/ed/cell_grid.hpp"
+#include "engine/ed/checkpoint.hpp"
 #include "engine/ed/initial_state.hpp"
 #include "engine/ed/system_state.hpp"
 
@@ -104,5 +105,29 @@ void StreamInletPlane::action(SystemState& s, int i) {
   s.remove_disk(i);
   ++removed_;
 }
+
+// Its random stream, the next arrival time and the counters; the rate is configuration.
+void StreamInlet::save(io::ArchiveWriter& w) const {
+  w.rng(rng_);
+  w.pod(next_);
+  w.pod(arrivals_);
+  w.pod(injected_);
+  w.pod(blocked_tries_);
+  w.pod(skipped_);
+}
+
+void StreamInlet::load(io::ArchiveReader& r) {
+  r.rng(rng_);
+  r.pod(next_);
+  r.pod(arrivals_);
+  r.pod(injected_);
+  r.pod(blocked_tries_);
+  r.pod(skipped_);
+}
+
+// The count of disks it removed; the plane is configuration.
+void StreamInletPlane::save(io::ArchiveWriter& w) const { w.pod(removed_); }
+
+void StreamInletPlane::load(io::ArchiveReader& r) { r.pod(removed_); }
 
 }  // namespace grainflow::ed

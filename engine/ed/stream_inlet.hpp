@@ -32,6 +32,8 @@ public:
   std::string_view name() const override { return "stream_inlet"; }
   double event_time(const SystemState&) const override { return next_; }
   void action(SystemState& state) override;
+  void save(io::ArchiveWriter& w) const override;
+  void load(io::ArchiveReader& r) override;
 
   const StreamInletConfig& config() const { return cfg_; }
   double rate() const { return rate_; }  // n F+ L, arrivals per unit time
@@ -60,6 +62,8 @@ public:
   void cells(const CellGrid& grid, std::vector<int>& out) const override;
   double event_time(const SystemState& state, int i) const override;
   void action(SystemState& state, int i) override;
+  void save(io::ArchiveWriter& w) const override;
+  void load(io::ArchiveReader& r) override;
 
   double x() const { return x_; }
   std::uint64_t removed() const { return removed_; }

@@ -4,6 +4,7 @@
 
 #include "engine/core/error.hpp"
 #include "engine/ed/stream_inlet.hpp"
+#include "engine/ed/checkpoint.hpp"
 #include "engine/ed/system_state.hpp"
 
 namespace grainflow::ed {
@@ -32,6 +33,21 @@ void StreamOutlet::action(SystemState& s, int i) {
     s.remove_disk(i);
     ++removed_;
   }
+}
+
+// Its random stream and counters; the plane and the shared flux are configuration.
+void StreamOutlet::save(io::ArchiveWriter& w) const {
+  w.rng(rng_);
+  w.pod(arrivals_);
+  w.pod(turned_);
+  w.pod(removed_);
+}
+
+void StreamOutlet::load(io::ArchiveReader& r) {
+  r.rng(rng_);
+  r.pod(arrivals_);
+  r.pod(turned_);
+  r.pod(removed_);
 }
 
 }  // namespace grainflow::ed

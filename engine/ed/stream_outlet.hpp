@@ -28,6 +28,8 @@ public:
   void cells(const CellGrid& grid, std::vector<int>& out) const override;
   double event_time(const SystemState& state, int i) const override;
   void action(SystemState& state, int i) override;
+  void save(io::ArchiveWriter& w) const override;
+  void load(io::ArchiveReader& r) override;
 
   const StreamOutletConfig& config() const { return cfg_; }
   double turn_back_probability() const { return cfg_.turn_back ? flux_->turn_back_probability() : 0.0; }

@@ -1,11 +1,15 @@
 #include "engine/ed/system_state.hpp"
 
 #include <algorithm>
+#include <climits>
 #include <cmath>
+#include <type_traits>
 
 #include <fmt/format.h>
 
 #include "engine/core/error.hpp"
+#include "engine/ed/checkpoint.hpp"
+#include "engine/io/archive.hpp"
 
 namespace grainflow::ed {
 
@@ -174,6 +178,195 @@ void SystemState::index_agents() {
     cell_agents.insert(cell_agents.end(), per[c].begin(), per[c].end());
   }
   cell_agent_begin[nc] = static_cast<std::int32_t>(cell_agents.size());
+}
+
+// ---- checkpoints ------------------------------------------------------------------------
+
+namespace {
+
+// NextEvent as written: its 5 bytes of padding made explicit and zero, so that the same
+// records always give the same bytes.
+struct PackedEvent {
+  double key, pair_time;
+  std::int32_t partner;
+  std::uint32_t partner_count;
+  std::uint8_t kind, cross_dir, crossing, pad[5];
+};
+static_assert(sizeof(PackedEvent) == 32 && std::is_trivially_copyable_v<PackedEvent>);
+// Written as raw bytes, so they must have no padding (a new field: check, then update).
+static_assert(sizeof(Disk) == 8 * sizeof(double));
+static_assert(sizeof(Stats) == 13 * 8, "Stats is written as raw bytes: a new field must not add padding");
+static_assert(sizeof(SystemState::Removal) == 2 * sizeof(int));
+
+}  // namespace
+
+void SystemState::save(io::ArchiveWriter& w) const {
+  w.tag("ed.state");
+  w.pod(now_);
+  w.pod(kin_);
+  w.pod(rot_);
+  w.pod(px_);
+  w.pod(py_);
+  w.pod(mtot_);
+  w.pod(dmin_);
+  w.pod(dmax_);
+  w.pod(static_cast<std::int32_t>(n_present_));
+  w.pod(static_cast<std::int32_t>(n_frozen_));
+  w.flag(grown_);
+  w.flag(events_ready_);
+  w.pod(stats);
+  w.array(disk);
+  w.array(counter);
+  w.array(slot);
+  std::vector<PackedEvent> ev(event.size());
+  for (std::size_t e = 0; e < event.size(); ++e) {
+    const NextEvent& x = event[e];
+    PackedEvent& p = ev[e];
+    p = PackedEvent{};
+    p.key = x.key;
+    p.pair_time = x.pair_time;
+    p.partner = x.partner;
+    p.partner_count = x.partner_count;
+    p.kind = static_cast<std::uint8_t>(x.kind);
+    p.cross_dir = x.cross_dir;
+    p.crossing = x.crossing ? 1 : 0;
+  }
+  w.array(ev);
+  w.array(free_);
+  w.array(touched_);
+  w.array(added_);
+  w.array(removed_);
+  w.tag("ed.cells");
+  grid.save_members(w);
+}
+
+SystemState::Saved SystemState::read_saved(io::ArchiveReader& r) const {
+  r.tag("ed.state");
+  Saved s;
+  r.pod(s.now);
+  r.pod(s.kin);
+  r.pod(s.rot);
+  r.pod(s.px);
+  r.pod(s.py);
+  r.pod(s.mtot);
+  r.pod(s.dmin);
+  r.pod(s.dmax);
+  s.n_present = r.get<std::int32_t>();
+  s.n_frozen = r.get<std::int32_t>();
+  s.grown = r.flag("the grown flag");
+  s.events_ready = r.flag("the events-ready flag");
+  r.pod(s.stats);
+  r.array(s.disk);
+  const std::size_t n = s.disk.size();
+  if (n > static_cast<std::size_t>(INT32_MAX)) r.corrupt(fmt::format("{} disk slots", n));
+  const int ni = static_cast<int>(n);
+  r.array_of(s.counter, n, "the disk counters");
+  r.array_of(s.slot, n, "the slot states");
+  if (!s.events_ready) r.corrupt("the event records were never filled (the event loop had not started)");
+  std::vector<PackedEvent> ev;
+  r.array_of(ev, n + timers.size(), "the event records (disk slots, then timers)");
+  r.array(s.free);
+  r.array(s.touched);
+  r.array(s.added);
+  r.array(s.removed);
+  r.tag("ed.cells");
+  s.cells = grid.read_members(r, ni);
+
+  // Consistency: anything an index is taken from must point inside its array.
+  int present = 0, frozen = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const auto v = static_cast<std::uint8_t>(s.slot[i]);
+    if (v > 2) r.corrupt(fmt::format("slot {} has state {}", i, v));
+    present += v != 0;
+    frozen += v == 2;
+  }
+  if (present != s.n_present || frozen != s.n_frozen)
+    r.corrupt(fmt::format("{} disks present and {} frozen are recorded, the slot states hold {} and {}",
+                          s.n_present, s.n_frozen, present, frozen));
+  std::vector<char> seen(n, 0);
+  if (s.free.size() != n - static_cast<std::size_t>(present))
+    r.corrupt(fmt::format("the free-slot list has {} entries for {} empty slots", s.free.size(),
+                          n - static_cast<std::size_t>(present)));
+  for (int i : s.free) {
+    if (i < 0 || i >= ni || s.slot[i] != SlotState::absent || seen[i])
+      r.corrupt(fmt::format("the free-slot list names slot {}, which is not a distinct empty slot", i));
+    seen[i] = 1;
+  }
+  for (int i : s.touched)
+    if (i < 0 || i >= ni) r.corrupt(fmt::format("a pending re-prediction names slot {} of {}", i, n));
+  for (int i : s.added)
+    if (i < 0 || i >= ni) r.corrupt(fmt::format("a pending insertion names slot {} of {}", i, n));
+  for (const Removal& x : s.removed)
+    if (x.id < 0 || x.id >= ni || x.cell < 0 || x.cell >= grid.size())
+      r.corrupt(fmt::format("a pending removal names slot {} in cell {}", x.id, x.cell));
+  s.event.resize(ev.size());
+  for (std::size_t e = 0; e < ev.size(); ++e) {
+    const PackedEvent& p = ev[e];
+    if (p.kind > 2 || p.cross_dir > 3 || p.crossing > 1)
+      r.corrupt(fmt::format("event record {} has kind {}, direction {}, crossing flag {}", e, p.kind, p.cross_dir,
+                            p.crossing));
+    const auto kind = static_cast<EventKind>(p.kind);
+    if (e < n && ((kind == EventKind::Pair && (p.partner < 0 || p.partner >= ni)) ||
+                  (kind == EventKind::Agent &&
+                   (p.partner < 0 || static_cast<std::size_t>(p.partner) >= agents.size()))))
+      r.corrupt(fmt::format("event record {} names partner {} ({} slots, {} agents)", e, p.partner, n,
+                            agents.size()));
+    NextEvent& x = s.event[e];
+    x.key = p.key;
+    x.pair_time = p.pair_time;
+    x.partner = p.partner;
+    x.partner_count = p.partner_count;
+    x.kind = kind;
+    x.cross_dir = p.cross_dir;
+    x.crossing = p.crossing != 0;
+  }
+  // The cell map holds exactly the disks present, each where its cell entry says.
+  const int nc = grid.size(), stride = grid.capacity() + 1;
+  const auto& slots = s.cells.slots;
+  long long members = 0;
+  for (int c = 0; c < nc; ++c) {
+    const int k = slots[static_cast<std::size_t>(c) * stride];
+    if (k < 0 || k > grid.capacity()) r.corrupt(fmt::format("cell {} holds {} disks", c, k));
+    members += k;
+  }
+  if (members != present) r.corrupt(fmt::format("the cells hold {} disks, {} are present", members, present));
+  for (std::size_t i = 0; i < n; ++i) {
+    const int c = s.cells.cell[i];
+    if (s.slot[i] == SlotState::absent) {
+      if (c != -1) r.corrupt(fmt::format("empty slot {} is listed in cell {}", i, c));
+      continue;
+    }
+    const int p = s.cells.pos[i];
+    if (c < 0 || c >= nc || p < 0 || p >= slots[static_cast<std::size_t>(c) * stride] ||
+        slots[static_cast<std::size_t>(c) * stride + 1 + p] != static_cast<std::int32_t>(i))
+      r.corrupt(fmt::format("disk {} is not where the cell map says (cell {}, place {})", i, c, p));
+  }
+  return s;
+}
+
+void SystemState::restore(Saved&& s) noexcept {
+  now_ = s.now;
+  kin_ = s.kin;
+  rot_ = s.rot;
+  px_ = s.px;
+  py_ = s.py;
+  mtot_ = s.mtot;
+  dmin_ = s.dmin;
+  dmax_ = s.dmax;
+  n_present_ = s.n_present;
+  n_frozen_ = s.n_frozen;
+  grown_ = s.grown;
+  events_ready_ = s.events_ready;
+  stats = s.stats;
+  disk.swap(s.disk);
+  counter.swap(s.counter);
+  slot.swap(s.slot);
+  event.swap(s.event);
+  free_.swap(s.free);
+  touched_.swap(s.touched);
+  added_.swap(s.added);
+  removed_.swap(s.removed);
+  grid.adopt_members(std::move(s.cells));
 }
 
 }  // namespace grainflow::ed

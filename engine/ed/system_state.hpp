@@ -17,6 +17,11 @@
 #include "engine/ed/pair_collision_time.hpp"
 #include "engine/ed/stats.hpp"
 
+namespace grainflow::io {
+class ArchiveWriter;
+class ArchiveReader;
+}  // namespace grainflow::io
+
 namespace grainflow::ed {
 
 // What a slot of the disk arrays holds (open stream boundaries, seed 003 §3.2–3.3).
@@ -180,6 +185,37 @@ public:
     removed_.clear();
     grown_ = false;
   }
+
+  // ---- checkpoints (Simulation::save_state / load_state) ------------------------------
+  // Every mutable member, verbatim: clock, books, slot counts, diameter range, the disks
+  // (each at its own time: nothing is synchronised), counters, slot states, the event
+  // records, the free-slot list (its order decides which ids are reused), the changes
+  // made from outside and not yet settled by the loop (set_velocity, add_disk, … between
+  // runs: kept, and settled when the next run starts, as without the checkpoint), the
+  // stats, and the cell map's membership. Not saved: the grid geometry, collision rule,
+  // agents and their cell lists, which the identical construction rebuilds.
+  struct Saved {
+    double now = 0.0, kin = 0.0, rot = 0.0, px = 0.0, py = 0.0, mtot = 0.0, dmin = 0.0, dmax = 0.0;
+    int n_present = 0, n_frozen = 0;
+    bool grown = false, events_ready = false;
+    HugeVector<Disk> disk;
+    std::vector<std::uint32_t> counter;
+    std::vector<SlotState> slot;
+    HugeVector<NextEvent> event;
+    std::vector<int> touched, free, added;
+    std::vector<Removal> removed;
+    Stats stats;
+    CellGrid::Members cells;
+  };
+  void save(io::ArchiveWriter& w) const;
+  // Reads what save() wrote into a separate record, checked against this state (grid
+  // geometry, number of agents and timers) and for consistency (array sizes, slot counts,
+  // free list, cell membership, event partners); throws grainflow::Error (the reader's
+  // mismatch / corrupt / truncated) and changes nothing when it does not fit.
+  Saved read_saved(io::ArchiveReader& r) const;
+  // Adopts a record read_saved returned. The calendar must then be rebuilt from the
+  // event records (EventLoopBase::resume).
+  void restore(Saved&& s) noexcept;
 
 private:
   void grow();

@@ -2,10 +2,14 @@
 // core for the equilibrium periodic box at η = 0.65, kT = 0.02, for each calendar, after
 // an equilibration period; reports the median of the timed windows and memory per disk.
 // Usage: bench_ed [N ...] [--repeats R] [--per-disk C] [--calendar cell_heap|bucket] [--cell S]
-//                 [--order lattice|shuffled|cells]
+//                 [--order lattice|shuffled|cells] [--checkpoint]
 // --order: the disks' memory order for the timed windows — as the melted lattice left
 // it (default), shuffled at random (what an open stream's refilled slots tend to), or
 // renumbered in cell order (Simulation::reorder_disks(cell_order())).
+// --checkpoint: instead of the throughput, the size of a checkpoint of the equilibrated box
+// (Simulation::save_state, default N = 160000) and the median wall time of save_state and
+// of load_state (into a second simulation built the same way, construction not timed) over
+// the repetitions; the restored state is checked to save the same bytes again.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -19,8 +23,68 @@
 
 #include "engine/core/error.hpp"
 #include "engine/ed/simulation.hpp"
+#include "engine/io/archive.hpp"
 
 namespace ed = grainflow::ed;
+
+namespace {
+
+ed::Config box(int n, ed::CalendarKind cal, double cell) {
+  ed::Config c;
+  const double l = std::sqrt(n * std::numbers::pi / 4.0 / 0.65);
+  c.lx = c.ly = l;
+  c.n = n;
+  c.kT = 0.02;
+  c.seed = 1;
+  c.calendar = cal;
+  c.min_cell_size = cell;
+  return c;
+}
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v[v.size() / 2];
+}
+
+int bench_checkpoint(const std::vector<int>& sizes, const std::vector<ed::CalendarKind>& cals, int repeats,
+                     double cell) {
+  std::printf("%-9s %-10s %14s %9s %11s %11s %10s %10s\n", "N", "calendar", "bytes", "B/disk", "save s", "load s",
+              "save MB/s", "load MB/s");
+  for (int n : sizes) {
+    for (auto cal : cals) {
+      const ed::Config c = box(n, cal, cell);
+      ed::Simulation sim(c);
+      while (sim.stats().collisions < 10ull * n) sim.advance(100000);  // melt the lattice
+      ed::Simulation target(c);  // built the same way; its construction is not timed
+      std::vector<double> save_s, load_s;
+      std::string bytes;
+      for (int r = 0; r < repeats; ++r) {
+        grainflow::io::ArchiveWriter w;
+        const auto t0 = std::chrono::steady_clock::now();
+        sim.save_state(w);
+        save_s.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+        bytes = w.take();
+        grainflow::io::ArchiveReader in(bytes, "checkpoint");
+        const auto t1 = std::chrono::steady_clock::now();
+        target.load_state(in);
+        load_s.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count());
+      }
+      grainflow::io::ArchiveWriter again;
+      target.save_state(again);
+      if (again.bytes() != bytes) {
+        std::fprintf(stderr, "bench_ed: the restored state saved other bytes\n");
+        return 1;
+      }
+      const double mb = double(bytes.size()) / 1e6;
+      std::printf("%-9d %-10s %14zu %9.1f %11.4g %11.4g %10.0f %10.0f\n", n, sim.calendar(), bytes.size(),
+                  double(bytes.size()) / n, median(save_s), median(load_s), mb / median(save_s), mb / median(load_s));
+      std::fflush(stdout);
+    }
+  }
+  return 0;
+}
+
+}  // namespace
 
 int main(int argc, char** argv) try {
   std::vector<int> sizes;
@@ -28,6 +92,7 @@ int main(int argc, char** argv) try {
   double per_disk = 20.0;  // timed collisions per disk in each window
   double cell = ed::Config{}.min_cell_size;  // minimum cell edge in σ (--cell 1.2: the seed's §2.2 optimum)
   std::string order = "lattice";
+  bool checkpoint = false;
   std::vector<ed::CalendarKind> cals = {ed::CalendarKind::cell_heap, ed::CalendarKind::bucket};
   for (int a = 1; a < argc; ++a) {
     const std::string s = argv[a];
@@ -35,6 +100,7 @@ int main(int argc, char** argv) try {
     else if (s == "--per-disk" && a + 1 < argc) per_disk = std::atof(argv[++a]);
     else if (s == "--calendar" && a + 1 < argc) cals = {ed::calendar_from_name(argv[++a])};
     else if (s == "--cell" && a + 1 < argc) cell = std::atof(argv[++a]);
+    else if (s == "--checkpoint") checkpoint = true;
     else if (s == "--order" && a + 1 < argc) {
       order = argv[++a];
       if (order != "lattice" && order != "shuffled" && order != "cells") {
@@ -44,6 +110,10 @@ int main(int argc, char** argv) try {
     }
     else sizes.push_back(static_cast<int>(std::atof(s.c_str())));
   }
+  if (checkpoint) {
+    if (sizes.empty()) sizes = {160000};
+    return bench_checkpoint(sizes, cals, std::max(repeats, 1), cell);
+  }
   if (sizes.empty()) sizes = {10000, 160000, 1000000};
   // Wall-clock rates suffer when the machine is shared; collisions per CPU-second of this
   // process (std::clock) is the one-core figure, reported beside it.
@@ -52,15 +122,7 @@ int main(int argc, char** argv) try {
   for (int n : sizes) {
     for (auto cal : cals) {
       const auto t0 = std::chrono::steady_clock::now();
-      ed::Config c;
-      const double l = std::sqrt(n * std::numbers::pi / 4.0 / 0.65);
-      c.lx = c.ly = l;
-      c.n = n;
-      c.kT = 0.02;
-      c.seed = 1;
-      c.calendar = cal;
-      c.min_cell_size = cell;
-      ed::Simulation sim(c);
+      ed::Simulation sim(box(n, cal, cell));
       // Equilibration: melt the lattice (≈ 10 collisions per disk).
       while (sim.stats().collisions < 10ull * n) sim.advance(100000);
       if (order == "shuffled") {
@@ -87,10 +149,6 @@ int main(int argc, char** argv) try {
         erates.push_back((sim.stats().events - e0) / cpu);
         stale.push_back(double(sim.stats().stale - s0) / double(sim.stats().collisions - c0));
       }
-      auto median = [](std::vector<double> v) {
-        std::sort(v.begin(), v.end());
-        return v[v.size() / 2];
-      };
       std::printf("%-9d %-10s %14.4g %14.4g %14.4g %11.3f %9.1f %9.1f\n", n, sim.calendar(), median(rates),
                   median(crates), median(erates), median(stale), double(sim.memory_bytes()) / n, setup);
       std::fflush(stdout);

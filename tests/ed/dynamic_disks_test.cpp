@@ -13,6 +13,8 @@
 #include "engine/core/rng.hpp"
 #include "engine/ed/pair_collision_time.hpp"
 #include "engine/ed/simulation.hpp"
+#include "tests/ed/churn.hpp"
+#include "engine/io/archive.hpp"
 
 namespace ed = grainflow::ed;
 
@@ -28,6 +30,16 @@ public:
     ++calls;
     next_ += dt_;
     f_(s);
+  }
+  // Its clock and call count. The function's own captures (the churn's random stream) are
+  // the test's code, out of the engine's sight: these tests take no checkpoints.
+  void save(grainflow::io::ArchiveWriter& w) const override {
+    w.pod(next_);
+    w.pod(calls);
+  }
+  void load(grainflow::io::ArchiveReader& r) override {
+    r.pod(next_);
+    r.pod(calls);
   }
   int calls = 0;
 
@@ -67,35 +79,7 @@ struct Churn {
   int actions = 0;
   void operator()(ed::SystemState& s) {
     ++actions;
-    if (s.count() > 4) {
-      int i;
-      do i = int(rng.below(std::uint64_t(s.size()))); while (!s.present(i));
-      s.remove_disk(i);
-    }
-    const int adds = actions < 40 ? 2 : 1;
-    for (int a = 0; a < adds; ++a) {
-      for (int tries = 0; tries < 1000; ++tries) {
-        ed::DiskInit d;
-        d.r = {rng.uniform() * s.grid.lx(), rng.uniform() * s.grid.ly()};
-        bool free = true;
-        for (int j = 0; j < s.size() && free; ++j) {
-          if (!s.present(j)) continue;
-          grainflow::Vec2 dr = s.position_now(j) - d.r;
-          dr.x() -= s.grid.lx() * std::round(dr.x() / s.grid.lx());
-          dr.y() -= s.grid.ly() * std::round(dr.y() / s.grid.ly());
-          free = dr.norm() > 1.0 + 1e-6;
-        }
-        if (!free) continue;
-        d.v = {rng.normal(), rng.normal()};
-        s.add_disk(d);
-        break;
-      }
-    }
-    if (actions % 7 == 0) {
-      int i;
-      do i = int(rng.below(std::uint64_t(s.size()))); while (!s.present(i));
-      s.freeze(i, 0.3 * rng.normal(), 0.3 * rng.normal());
-    }
+    ed::test::churn(s, rng, actions, actions < 40 ? 2 : 1);
   }
 };
 

@@ -20,6 +20,7 @@
 #include "engine/ed/cell_grid.hpp"
 #include "engine/ed/low_density_stream.hpp"
 #include "engine/ed/simulation.hpp"
+#include "engine/io/archive.hpp"
 #include "tests/ed/ks_statistic.hpp"
 
 namespace ed = grainflow::ed;
@@ -44,6 +45,15 @@ public:
   }
   void action(ed::SystemState& s, int i) override {
     if (recording) wx.push_back(s.disk[i].vx);
+  }
+  // What it has recorded so far; the plane is configuration.
+  void save(grainflow::io::ArchiveWriter& w) const override {
+    w.pod(recording);
+    w.array(wx);
+  }
+  void load(grainflow::io::ArchiveReader& r) override {
+    r.pod(recording);
+    r.array(wx);
   }
   bool recording = false;
   std::vector<double> wx;
