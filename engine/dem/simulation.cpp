@@ -133,7 +133,6 @@ void set_thread_count([[maybe_unused]] int n) {
 }
 
 Simulation::Simulation(Config cfg) : cfg_(std::move(cfg)) { setup(); }
-Simulation::Simulation(Config cfg, Restore) : cfg_(std::move(cfg)) {}
 Simulation::~Simulation() = default;
 Simulation::Simulation(Simulation&&) noexcept = default;
 Simulation& Simulation::operator=(Simulation&&) noexcept = default;

@@ -18,6 +18,11 @@
 #include "engine/dem/particle_state.hpp"
 #include "engine/dem/thread_sync.hpp"
 
+namespace grainflow::io {
+class ArchiveWriter;
+class ArchiveReader;
+}  // namespace grainflow::io
+
 namespace grainflow::dem {
 
 struct GroupConfig {
@@ -112,14 +117,14 @@ public:
   const ContactLaw& contact_law() const { return *law_; }
   Stats stats() const;
 
-  // Binary checkpoint with the full state incl. contact history; a run restored from it
-  // continues bit for bit. Written atomically (temporary file + rename).
-  void save_checkpoint(const std::filesystem::path& file) const;
-  static Simulation load_checkpoint(const std::filesystem::path& file);
+  // Checkpoint state (checkpoint.cpp): the full state incl. contact history and the
+  // neighbour table. load_state restores it into a Simulation built from the same Config
+  // (any thread count), which then continues bit for bit; throws grainflow::Error when the
+  // archive was saved under another configuration or is truncated or corrupt.
+  void save_state(io::ArchiveWriter& w) const;
+  void load_state(io::ArchiveReader& r);
 
 private:
-  struct Restore {};
-  Simulation(Config cfg, Restore);
   void setup();
   void configure();        // contact law, time step, box
   void place_particles();  // validated initial state, first neighbour table

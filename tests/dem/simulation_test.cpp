@@ -18,6 +18,7 @@
 #include "engine/core/error.hpp"
 #include "engine/core/rng.hpp"
 #include "engine/dem/simulation.hpp"
+#include "engine/io/archive.hpp"
 #include "engine/dem/time_step.hpp"
 
 using namespace grainflow;
@@ -403,23 +404,54 @@ TEST(DemCheckpoint, RestartContinuesBitForBit) {
   Simulation s(c);
   s.step(300);
   (void)s.stats();  // a measurement between steps must not perturb the run
-  std::filesystem::create_directories(GRAINFLOW_TEST_OUT);
-  const std::filesystem::path file = std::filesystem::path(GRAINFLOW_TEST_OUT) / "dem_restart.ckpt";
-  s.save_checkpoint(file);
-  Simulation r = Simulation::load_checkpoint(file);
+  io::ArchiveWriter w;
+  s.save_state(w);
+  // Restored into a fresh simulation of the same configuration, on another thread count.
+  const int threads = thread_count();
+  set_thread_count(threads == 1 ? 2 : 1);
+  Simulation r(c);
+  io::ArchiveReader in(w.bytes(), "state");
+  r.load_state(in);
+  EXPECT_TRUE(in.at_end());
   EXPECT_EQ(r.steps(), 300u);
   r.step(300);
+  set_thread_count(threads);
   EXPECT_TRUE(same_state(ref, r));
   EXPECT_EQ(ref.neighbors().hist, r.neighbors().hist);
   EXPECT_GT(ref.stats().contacts, 0u);
-  // A truncated file is refused.
+  // Saving the restored state again gives the same bytes.
   {
-    std::ifstream is(file, std::ios::binary);
-    std::string data((std::istreambuf_iterator<char>(is)), std::istreambuf_iterator<char>());
-    std::ofstream os(file, std::ios::binary | std::ios::trunc);
-    os.write(data.data(), static_cast<std::streamsize>(data.size() / 2));
+    Simulation again(c);
+    io::ArchiveReader in2(w.bytes(), "state");
+    again.load_state(in2);
+    io::ArchiveWriter w2;
+    again.save_state(w2);
+    EXPECT_EQ(w.bytes(), w2.bytes());
   }
-  EXPECT_THROW(Simulation::load_checkpoint(file), Error);
+  // A truncated state is refused, naming what is missing.
+  {
+    Simulation t(c);
+    io::ArchiveReader cut(std::string_view(w.bytes()).substr(0, w.bytes().size() / 2), "state");
+    try {
+      t.load_state(cut);
+      ADD_FAILURE() << "a truncated state was accepted";
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find("truncated"), std::string::npos) << e.what();
+    }
+  }
+  // So is a state saved under another configuration.
+  {
+    Config other = c;
+    other.gravity = Vec3(0, 0, -1.0);
+    Simulation o(other);
+    io::ArchiveReader in3(w.bytes(), "state");
+    try {
+      o.load_state(in3);
+      ADD_FAILURE() << "a state of another configuration was accepted";
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find("configuration"), std::string::npos) << e.what();
+    }
+  }
 }
 
 namespace {
