@@ -75,18 +75,50 @@ void AsyncSink::run() {
       item = std::move(queue_.front());
       queue_.pop_front();
     }
-    not_full_.notify_one();
+    if (!item.sync) not_full_.notify_one();
     try {
-      for (auto& sink : sinks_) sink->consume(item.frame, item.index, item.time);
+      if (item.sync) {
+        for (auto& sink : sinks_) sink->sync();
+        {
+          std::lock_guard lock(mutex_);
+          ++syncs_done_;
+        }
+        synced_.notify_all();
+      } else {
+        for (auto& sink : sinks_) sink->consume(item.frame, item.index, item.time);
+      }
     } catch (...) {
       std::lock_guard lock(mutex_);
       error_ = std::current_exception();
       queue_.clear();
       not_full_.notify_all();
+      synced_.notify_all();
       return;
     }
   }
 }
+
+std::uint64_t AsyncSink::request_sync() {
+  std::unique_lock lock(mutex_);
+  if (finished_ || closing_) throw Error("asynchronous output: sync() after finish()");
+  rethrow_if_failed();
+  Item marker;
+  marker.sync = true;
+  queue_.push_back(std::move(marker));
+  const std::uint64_t ticket = ++syncs_requested_;
+  lock.unlock();
+  not_empty_.notify_one();
+  return ticket;
+}
+
+void AsyncSink::wait_synced(std::uint64_t ticket) {
+  std::unique_lock lock(mutex_);
+  synced_.wait(lock, [&] { return syncs_done_ >= ticket || error_; });
+  if (syncs_done_ >= ticket) return;
+  rethrow_if_failed();
+}
+
+void AsyncSink::sync() { wait_synced(request_sync()); }
 
 void AsyncSink::finish() {
   {

@@ -36,6 +36,16 @@ public:
   // Writes everything queued, joins the worker, then finishes each inner sink in order.
   // Re-throws a worker failure.
   void finish() override;
+  // Returns once the worker has consumed every frame queued before the call and then run
+  // sync() on each inner sink in order. Re-throws a worker failure met before that point
+  // (a failure in a later frame is reported by the next call instead). Equivalent to
+  // wait_synced(request_sync()).
+  void sync() override;
+  // The two halves of sync(), so that FanOutSink syncs its workers in parallel: queue a
+  // sync marker (behind the queued frames; queued even when the queue is full) and get
+  // its ticket; then wait until the worker has passed that marker.
+  std::uint64_t request_sync();
+  void wait_synced(std::uint64_t ticket);
 
   std::size_t capacity() const { return capacity_; }
   // Total time consume() waited for room in the queue (seconds): how much the sinks held
@@ -47,6 +57,7 @@ private:
     Image frame;
     std::int64_t index = 0;
     double time = 0.0;
+    bool sync = false;  // not a frame: run sync() on the inner sinks
   };
   void push(Item item);
   void run();
@@ -58,6 +69,9 @@ private:
   mutable std::mutex mutex_;
   std::condition_variable not_full_;
   std::condition_variable not_empty_;
+  std::condition_variable synced_;
+  std::uint64_t syncs_requested_ = 0;
+  std::uint64_t syncs_done_ = 0;
   std::deque<Item> queue_;
   bool closing_ = false;   // no more frames will come: drain and exit
   bool aborting_ = false;  // exit now, drop the queue

@@ -3,7 +3,9 @@
 // of one after the other: at 1080p PNG level 1 (~90 ms) and x264 superfast (~45 ms) then
 // cost the producer the slower of the two, not their sum.
 #pragma once
+#include <cstdint>
 #include <memory>
+#include <utility>
 #include <vector>
 
 #include "render/output/async_sink.hpp"
@@ -19,6 +21,16 @@ public:
   }
   void finish() override {
     for (auto& s : sinks_) s->finish();
+  }
+  // Every sink synced. Asynchronous ones (parallel_sinks()) are all asked first and then
+  // waited for, so their encoders drain at the same time rather than one after another.
+  void sync() override {
+    std::vector<std::pair<AsyncSink*, std::uint64_t>> pending;
+    for (auto& s : sinks_) {
+      if (auto* a = dynamic_cast<AsyncSink*>(s.get())) pending.emplace_back(a, a->request_sync());
+      else s->sync();
+    }
+    for (auto& [a, ticket] : pending) a->wait_synced(ticket);
   }
 
 private:

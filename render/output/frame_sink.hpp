@@ -17,6 +17,13 @@ public:
   // Completes every output (flushes encoders, renames files into place). A sink destroyed
   // without finish() leaves no file under a finished-looking name.
   virtual void finish() = 0;
+  // For checkpoints (`grainflow run --resume`): returns once every frame consumed so far is
+  // in the output's files (handed to the kernel; nothing is fsync'ed) and the files hold
+  // them as a prefix that a run resumed at this frame count continues. An MP4 drains its
+  // encoder (Mp4Writer::sync()); an asynchronous sink waits for its queue. Throws
+  // grainflow::Error on I/O failure (or the failure an asynchronous sink met earlier).
+  // Default: nothing to do, for sinks whose every frame is complete when consume() returns.
+  virtual void sync() {}
 };
 
 }  // namespace grainflow::render

@@ -18,9 +18,15 @@ Mp4Sink::Mp4Sink(std::filesystem::path path, Mp4Options options)
 
 Mp4Sink::~Mp4Sink() = default;
 
-void Mp4Sink::consume(const Image& frame, std::int64_t /*index*/, double /*time*/) {
+void Mp4Sink::consume(const Image& frame, std::int64_t index, double /*time*/) {
   if (!error_.empty()) throw Error(error_);
   if (!writer_) {
+    if (options_.resume_frames > 0 && index != options_.resume_frames) {
+      error_ = "MP4 '" + path_.string() + "': resumed after frame " + std::to_string(options_.resume_frames - 1) +
+               ", so the first frame must be frame " + std::to_string(options_.resume_frames) + ", not " +
+               std::to_string(index);
+      throw Error(error_);
+    }
     // A writer that failed to open would fail again at the next frame, perhaps for a new
     // reason (its .partial half made); the first cause is the one to report.
     try {
@@ -39,6 +45,13 @@ void Mp4Sink::finish() {
   writer_->finish();
 }
 
-std::int64_t Mp4Sink::frames_written() const { return writer_ ? writer_->frames_written() : 0; }
+void Mp4Sink::sync() {
+  if (!error_.empty()) throw Error(error_);
+  if (writer_) writer_->sync();
+}
+
+std::int64_t Mp4Sink::frames_written() const {
+  return writer_ ? writer_->frames_written() : options_.resume_frames;
+}
 
 }  // namespace grainflow::render

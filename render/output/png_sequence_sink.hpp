@@ -18,6 +18,9 @@ public:
   void consume(const Image& frame, std::int64_t index, double time) override;
   // Every frame is complete when consume() returns, so there is nothing left to finalise.
   void finish() override {}
+  // Nothing either: write_png() renames each file into place before consume() returns. A
+  // resumed run writes frames K, K+1, ... again under the same names (atomic replace).
+  void sync() override {}
 
   std::filesystem::path frame_path(std::int64_t index) const;
   std::int64_t frames_written() const { return frames_written_; }

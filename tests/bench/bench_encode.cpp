@@ -2,6 +2,9 @@
 // settings), H.264 per x264 preset, and how much AsyncSink hides behind a busy producer.
 // Usage: bench_encode [frames-per-mp4-run=60] [scratch-dir=/tmp/grainflow_bench_encode]
 //                     [presets, comma-separated: only these MP4 rows, no PNG or overlap]
+//        bench_encode sync [frames=300] [every=30] [scratch-dir]
+//                     checkpoints: the cost of Mp4Writer::sync() and of a resume (see
+//                     sync_bench below), at 1280x720 and 1920x1080, default options.
 // "finish ms" is Mp4Sink::finish(): x264's delayed frames, then (since #12) the copy of the
 // fragmented .partial into the standard MP4, whose cost it shows.
 //
@@ -27,12 +30,14 @@
 #include <memory>
 #include <string>
 #include <thread>
+#include <utility>
 #include <vector>
 
 #include "engine/core/rng.hpp"
 #include "render/image/image.hpp"
 #include "render/output/async_sink.hpp"
 #include "render/output/mp4_sink.hpp"
+#include "render/output/mp4_writer.hpp"
 #include "render/output/png_io.hpp"
 #include "render/output/png_sequence_sink.hpp"
 
@@ -123,10 +128,103 @@ void busy(double seconds) {
   while (seconds_since(t0) < seconds) x = x + 1.0;
 }
 
+// Checkpoints (`grainflow run --resume`), default MP4 options (superfast, crf 20, 2 threads):
+//  - "no sync" / "sync every N": the same `frames` frames encoded without and with a
+//    sync() every N frames: wall and CPU per frame, final MP4 size, and each sync()'s wall
+//    time (drain x264's pipeline, write those fragments, open a new x264 instance).
+//  - "resume copy": a writer resumed at `frames` from the .partial that the synced run left
+//    (with 10 frames past the checkpoint, as after a kill): the constructor's time, which is
+//    the copy of the packets plus opening x264; "open" is a plain writer's constructor, for
+//    comparison.
+int sync_bench(int argc, char** argv) {
+  using namespace grainflow::render;
+  const int frames = argc > 2 ? std::max(30, std::atoi(argv[2])) : 300;
+  const int every = argc > 3 ? std::max(1, std::atoi(argv[3])) : 30;
+  const fs::path dir = argc > 4 ? fs::path(argv[4]) : fs::path("/tmp/grainflow_bench_encode_sync");
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  std::printf("bench_encode sync: %d frames, sync every %d, default MP4 options, scratch %s\n", frames, every,
+              dir.c_str());
+  for (const auto& [W, H] : {std::pair{1280, 720}, std::pair{1920, 1080}}) {
+    const std::vector<Image> src = make_frames(W, H, 16);
+    std::printf("\n%dx%d\n%-22s %10s %10s %14s %12s %30s\n", W, H, "case", "wall ms/f", "CPU ms/f", "MP4 bytes",
+                "finish ms", "sync() ms: mean / min / max");
+    std::uintmax_t base_bytes = 0;
+    for (const int interval : {0, every}) {
+      const fs::path p = dir / (std::to_string(W) + (interval ? "_sync.mp4" : "_plain.mp4"));
+      std::vector<double> syncs;
+      const double cpu0 = process_cpu_seconds();
+      const auto t0 = Clock::now();
+      double finish_s = 0;
+      {
+        Mp4Writer w(p, W, H);
+        for (int k = 0; k < frames; ++k) {
+          w.write(frame_at(src, k));
+          if (interval && (k + 1) % interval == 0 && k + 1 < frames) {
+            const auto ts = Clock::now();
+            w.sync();
+            syncs.push_back(seconds_since(ts));
+          }
+        }
+        const auto tf = Clock::now();
+        w.finish();
+        finish_s = seconds_since(tf);
+      }
+      const double wall = seconds_since(t0), cpu = process_cpu_seconds() - cpu0;
+      const std::uintmax_t bytes = fs::file_size(p);
+      if (!interval) base_bytes = bytes;
+      const std::string name = interval ? "sync every " + std::to_string(interval) : "no sync";
+      std::printf("%-22s %10.1f %10.1f %14ju %12.1f", name.c_str(), 1e3 * wall / frames, 1e3 * cpu / frames, bytes,
+                  1e3 * finish_s);
+      if (!syncs.empty()) {
+        double sum = 0;
+        for (double x : syncs) sum += x;
+        std::printf("   %8.1f / %6.1f / %6.1f (%zu)", 1e3 * sum / double(syncs.size()),
+                    1e3 * *std::min_element(syncs.begin(), syncs.end()),
+                    1e3 * *std::max_element(syncs.begin(), syncs.end()), syncs.size());
+        std::printf("\n%-22s size %+.2f%% (%+.0f bytes per sync)", "", 100.0 * (double(bytes) - double(base_bytes)) / double(base_bytes),
+                    (double(bytes) - double(base_bytes)) / double(syncs.size()));
+      }
+      std::printf("\n");
+      std::fflush(stdout);
+    }
+    // The run a resume continues: synced at `frames`, 10 frames past it, then "killed"
+    // (dropped unfinished: the frames x264 held are flushed, as far as a kill gets).
+    const fs::path p = dir / (std::to_string(W) + "_resume.mp4");
+    {
+      Mp4Writer w(p, W, H);
+      for (int k = 0; k < frames; ++k) w.write(frame_at(src, k));
+      w.sync();
+      for (int k = frames; k < frames + 10; ++k) w.write(frame_at(src, k));
+    }
+    const std::uintmax_t partial_bytes = fs::file_size(p.string() + ".partial");
+    double open_s = 0, resume_s = 0;
+    {
+      const auto t0 = Clock::now();
+      Mp4Writer plain(dir / "open.mp4", W, H);
+      open_s = seconds_since(t0);
+    }
+    {
+      Mp4Options o;
+      o.resume_frames = frames;
+      const auto t0 = Clock::now();
+      Mp4Writer resumed(p, W, H, o);
+      resume_s = seconds_since(t0);
+      for (int k = frames; k < frames + 10; ++k) resumed.write(frame_at(src, k));
+      resumed.finish();
+    }
+    std::printf("%-22s %10.1f ms for %d frames (%.1f MB .partial); a plain writer opens in %.1f ms\n",
+                "resume copy", 1e3 * resume_s, frames, double(partial_bytes) / 1e6, 1e3 * open_s);
+  }
+  fs::remove_all(dir);
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   using namespace grainflow::render;
+  if (argc > 1 && std::string(argv[1]) == "sync") return sync_bench(argc, argv);
   const int mp4_frames = argc > 1 ? std::max(10, std::atoi(argv[1])) : 60;
   const fs::path dir = argc > 2 ? fs::path(argv[2]) : fs::path("/tmp/grainflow_bench_encode");
   std::vector<std::string> presets = {"ultrafast", "superfast", "veryfast", "fast", "medium"};

@@ -31,6 +31,9 @@ struct Probe {
   int finished = 0;
   int destroyed = 0;
   std::int64_t fail_at = -1;
+  std::vector<std::size_t> synced_after;  // frames consumed when each sync() ran
+  bool fail_sync = false;
+  std::chrono::milliseconds consume_delay{0};
 };
 
 class ProbeSink : public FrameSink {
@@ -44,6 +47,7 @@ public:
     std::unique_lock l(p_.m);
     p_.cv.wait(l, [&] { return p_.gate_open; });
     if (index == p_.fail_at) throw Error("disk full while writing frame " + std::to_string(index));
+    if (p_.consume_delay.count() > 0) std::this_thread::sleep_for(p_.consume_delay);
     p_.indices.push_back(index);
     p_.first_bytes.push_back(frame.rgba.empty() ? -1 : frame.rgba[0]);
     p_.times.push_back(time);
@@ -52,6 +56,11 @@ public:
   void finish() override {
     std::lock_guard l(p_.m);
     ++p_.finished;
+  }
+  void sync() override {
+    std::lock_guard l(p_.m);
+    if (p_.fail_sync) throw Error("cannot flush the encoder");
+    p_.synced_after.push_back(p_.indices.size());
   }
 
 private:
@@ -159,6 +168,75 @@ TEST(AsyncSink, DestroyedUnfinishedDoesNotFinishInnerSinks) {
   EXPECT_EQ(p.finished, 0);
   EXPECT_EQ(p.destroyed, 1);
   EXPECT_LE(p.indices.size(), 5u);
+}
+
+// sync() returns once the worker has written every frame queued before it and synced the
+// inner sinks; the producer may go on queueing frames right after.
+TEST(AsyncSink, SyncWaitsForTheQueueAndSyncsTheInnerSinks) {
+  Probe a, b;
+  a.consume_delay = 5ms;  // a slow encoder: frames are still queued when sync() is called
+  std::vector<std::unique_ptr<FrameSink>> sinks;
+  sinks.push_back(std::make_unique<ProbeSink>(a));
+  sinks.push_back(std::make_unique<ProbeSink>(b));
+  AsyncSink async(std::move(sinks), 3);
+  async.sync();  // nothing queued
+  for (int k = 0; k < 12; ++k) async.consume(tagged(k), k, 0.0);
+  async.sync();
+  for (Probe* p : {&a, &b}) {
+    std::lock_guard l(p->m);
+    EXPECT_EQ(p->indices.size(), 12u);
+    EXPECT_EQ(p->synced_after, (std::vector<std::size_t>{0, 12}));
+  }
+  async.sync();  // twice in a row
+  for (int k = 12; k < 20; ++k) async.consume(tagged(k), k, 0.0);
+  async.finish();
+  EXPECT_EQ(a.synced_after, (std::vector<std::size_t>{0, 12, 12}));
+  EXPECT_EQ(a.indices.size(), 20u);
+  EXPECT_EQ(a.finished, 1);
+  EXPECT_THROW(async.sync(), Error) << "sync() after finish()";
+}
+
+TEST(AsyncSink, SyncRethrowsAWorkerFailure) {
+  {
+    Probe p;
+    p.fail_at = 2;
+    AsyncSink async(std::make_unique<ProbeSink>(p), 8);
+    for (int k = 0; k < 5; ++k) async.consume(tagged(k), k, 0.0);
+    try {
+      async.sync();
+      ADD_FAILURE() << "sync() hid the failure of frame 2";
+    } catch (const Error& e) {
+      EXPECT_EQ(std::string(e.what()), "disk full while writing frame 2");
+    }
+    EXPECT_TRUE(p.synced_after.empty());
+    EXPECT_THROW(async.consume(tagged(5), 5, 0.0), Error);
+  }
+  {
+    Probe p;
+    p.fail_sync = true;
+    AsyncSink async(std::make_unique<ProbeSink>(p), 8);
+    async.consume(tagged(0), 0, 0.0);
+    EXPECT_THROW(async.sync(), Error);
+    EXPECT_THROW(async.finish(), Error);
+    EXPECT_EQ(p.finished, 0);
+  }
+}
+
+// FanOutSink asks every asynchronous worker to sync before waiting for any of them.
+TEST(AsyncSink, FanOutSyncsEveryWorker) {
+  Probe a, b;
+  a.consume_delay = 3ms;
+  std::vector<std::unique_ptr<FrameSink>> sinks;
+  sinks.push_back(std::make_unique<ProbeSink>(a));
+  sinks.push_back(std::make_unique<ProbeSink>(b));
+  auto out = parallel_sinks(std::move(sinks), 2);
+  for (int k = 0; k < 9; ++k) out->consume(tagged(k), k, 0.0);
+  out->sync();
+  for (Probe* p : {&a, &b}) {
+    std::lock_guard l(p->m);
+    EXPECT_EQ(p->synced_after, (std::vector<std::size_t>{9}));
+  }
+  out->finish();
 }
 
 TEST(AsyncSink, ZeroCapacityIsAnError) {
