@@ -22,6 +22,7 @@
 
 #include "render/image/image.hpp"
 #include "render/output/png_io.hpp"
+#include "tests/render/mp4_test_support.hpp"
 
 namespace fs = std::filesystem;
 
@@ -628,4 +629,181 @@ TEST(CliRun, RenderRangeFixesTheColourScaleAndMustNotBeEmpty) {
   const auto hi = grainflow::render::read_png((c / "frames/frame_000000.png").string());
   ASSERT_EQ(lo.width, hi.width);
   EXPECT_NE(lo.rgba, hi.rgba);
+}
+
+// ---- checkpoints and --resume (#12) ------------------------------------------------------
+
+namespace {
+
+// Starts `grainflow ARGS…` in the background, its output thrown away.
+pid_t spawn(const std::vector<std::string>& args) {
+  const pid_t pid = fork();
+  if (pid == 0) {
+    std::freopen("/dev/null", "w", stdout);
+    std::freopen("/dev/null", "w", stderr);
+    std::vector<char*> argv = {const_cast<char*>(GRAINFLOW_EXE)};
+    for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+    argv.push_back(nullptr);
+    execv(GRAINFLOW_EXE, argv.data());
+    _exit(127);
+  }
+  return pid;
+}
+
+// Waits until `file` exists (true) or the process ended or 60 s passed (false).
+bool wait_for_file(pid_t pid, const fs::path& file) {
+  const auto t0 = std::chrono::steady_clock::now();
+  while (std::chrono::steady_clock::now() - t0 < std::chrono::seconds(60)) {
+    if (fs::exists(file)) return true;
+    int status = 0;
+    if (waitpid(pid, &status, WNOHANG) == pid) return false;
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  return false;
+}
+
+std::vector<std::string> split_args(const std::string& s) {
+  std::vector<std::string> out;
+  std::string cur;
+  for (char c : s) {
+    if (c == ' ') {
+      if (!cur.empty()) out.push_back(cur);
+      cur.clear();
+    } else {
+      cur += c;
+    }
+  }
+  if (!cur.empty()) out.push_back(cur);
+  return out;
+}
+
+int count_frames(const fs::path& dir) {
+  int n = 0;
+  for (const auto& e : fs::directory_iterator(dir / "frames"))
+    if (e.path().extension() == ".png") ++n;
+  return n;
+}
+
+// Runs `scene_args` into a reference folder, then again into a second folder that is
+// killed with `signal` once its second checkpoint is written, resumes it, and expects the
+// same final state bits, the same stats.csv bytes and the same frames.
+void expect_kill_and_resume_match(const std::string& name, const std::string& scene_args, int signal,
+                                  const std::string& mp4) {
+  const fs::path ref = fresh_dir(name + "_ref"), killed = fresh_dir(name + "_killed");
+  const Result r = run(scene_args + " -o " + ref.string());
+  ASSERT_EQ(r.status, 0) << r.output;
+
+  auto args = split_args(scene_args);
+  args.insert(args.end(), {"-o", killed.string()});
+  const pid_t pid = spawn(args);
+  ASSERT_GT(pid, 0);
+  // Both slots written: at least two checkpoints behind, more frames maybe after them.
+  const bool checkpointed = wait_for_file(pid, killed / "checkpoints/checkpoint_0.gfck");
+  kill(pid, signal);
+  int status = 0;
+  waitpid(pid, &status, 0);
+  ASSERT_TRUE(checkpointed) << "the run ended before its second checkpoint";
+  if (signal == SIGKILL) {
+    ASSERT_TRUE(WIFSIGNALED(status)) << status;
+    EXPECT_TRUE(contains(read_file(killed / "run.json"), "\"status\": \"running\""));
+  } else {
+    ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 130) << status;
+    EXPECT_TRUE(contains(read_file(killed / "run.json"), "\"status\": \"interrupted\""));
+  }
+
+  const Result resumed = run("run --resume " + killed.string());
+  ASSERT_EQ(resumed.status, 0) << resumed.output;
+  EXPECT_TRUE(contains(resumed.output, "resuming at")) << resumed.output;
+  const std::string run_json = read_file(killed / "run.json");
+  EXPECT_TRUE(contains(run_json, "\"status\": \"complete\"")) << run_json;
+  EXPECT_TRUE(contains(run_json, "\"resumes\": 1")) << run_json;
+  EXPECT_EQ(state_digest(killed), state_digest(ref));
+  EXPECT_FALSE(state_digest(ref).empty());
+  // Rows continue without a gap or a repeat, to the last bit.
+  EXPECT_EQ(read_file(killed / "stats.csv"), read_file(ref / "stats.csv"));
+  EXPECT_FALSE(fs::exists(killed / "stats.csv.partial"));
+  // The frames continue their numbering and draw the same pictures.
+  EXPECT_EQ(count_frames(killed), count_frames(ref));
+  for (const auto& e : fs::directory_iterator(ref / "frames"))
+    EXPECT_EQ(read_file(killed / "frames" / e.path().filename()), read_file(e.path())) << e.path().filename();
+  // One video of every frame.
+  EXPECT_TRUE(fs::exists(killed / mp4));
+  EXPECT_FALSE(fs::exists(killed / (mp4 + ".partial")));
+  EXPECT_EQ(grainflow::render::test::decodable_frames(killed / mp4), count_frames(ref));
+}
+
+}  // namespace
+
+TEST(CliRun, KilledEdStreamResumesToTheSameBits) {
+  // The dispenser, the filter and the obstacle, with a checkpoint every two frames.
+  expect_kill_and_resume_match("resume_ed",
+                               "run " + scenes + "/obstacle_quick.toml --set run.until=160 --set sample.exposure=8 "
+                               "--set output.checkpoint_every=16 --set render.size=[160,96] --set output.particles=true",
+                               SIGKILL, "obstacle_quick.mp4");
+}
+
+TEST(CliRun, InterruptedDemBedResumesToTheSameBits) {
+  // Spheres in contact under gravity; SIGTERM finishes the files, --resume continues them.
+  expect_kill_and_resume_match("resume_dem",
+                               "run " + scenes + "/dem_freefall_box.toml --set system.group[0].N=800 "
+                               "--set system.box=[0.012,0.012,0.03] --set run.until=0.02 --set sample.exposure=0.001 "
+                               "--set output.checkpoint_every=0.002 --set render.size=[96,96] --threads 1",
+                               SIGTERM, "dem_freefall_box.mp4");
+}
+
+TEST(CliRun, ResumeRefusesWhatItCannotContinue) {
+  const fs::path out = fresh_dir("resume_refusals");
+  const std::string scene = "run " + scenes + "/disks_box.toml --set run.until=20 --set output.checkpoint_every=5 "
+                            "--set render.size=[64,64] --set output.mp4=false -o " + out.string();
+  ASSERT_EQ(run(scene).status, 0);
+  const std::string digest = state_digest(out);
+  // A complete run has nothing left to do...
+  Result r = run("run --resume " + out.string());
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_TRUE(contains(r.output, "run.until")) << r.output;
+  // ...and keys that decide the state cannot change on resume.
+  r = run("run --resume " + out.string() + " --set system.kT=0.05 --set run.until=40");
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_TRUE(contains(r.output, "system.kT cannot change on --resume")) << r.output;
+  EXPECT_TRUE(contains(r.output, "run.until")) << r.output;
+  // An edited scene.toml is another scene.
+  const std::string original = read_file(out / "scene.toml");
+  std::string edited = original;
+  const auto k = edited.find("kT = ");
+  ASSERT_NE(k, std::string::npos);
+  edited.replace(k, 5, "kT = 0.5 #");
+  write_file(out / "scene.toml", edited);
+  r = run("run --resume " + out.string() + " --set run.until=40");
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_TRUE(contains(r.output, "another scene")) << r.output;
+  write_file(out / "scene.toml", original);
+  // Damaged checkpoints are refused with the reason, and the folder is left as it was.
+  const std::string stats = read_file(out / "stats.csv");
+  for (const char* slot : {"checkpoints/checkpoint_0.gfck", "checkpoints/checkpoint_1.gfck"}) {
+    std::string bytes = read_file(out / slot);
+    ASSERT_GT(bytes.size(), 100u);
+    bytes[bytes.size() / 2] ^= 0x10;
+    std::ofstream(out / slot, std::ios::binary | std::ios::trunc) << bytes;
+  }
+  r = run("run --resume " + out.string() + " --set run.until=40");
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_TRUE(contains(r.output, "checksum")) << r.output;
+  EXPECT_EQ(read_file(out / "stats.csv"), stats);
+  EXPECT_EQ(state_digest(out), digest);
+  // Not a run folder at all.
+  r = run("run --resume " + fresh_dir("resume_nothing").string());
+  EXPECT_EQ(r.status, 2) << r.output;
+}
+
+TEST(CliRun, ACompleteRunIsExtendedByResumeToTheSameBits) {
+  const std::string common = "run " + scenes + "/disks_box.toml --set render.size=[64,64] --set output.mp4=false "
+                             "--set output.checkpoint_every=10 ";
+  const fs::path direct = fresh_dir("extend_direct"), extended = fresh_dir("extend_resumed");
+  ASSERT_EQ(run(common + "--set run.until=40 -o " + direct.string()).status, 0);
+  ASSERT_EQ(run(common + "--set run.until=20 -o " + extended.string()).status, 0);
+  const Result r = run("run --resume " + extended.string() + " --set run.until=40");
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_EQ(state_digest(extended), state_digest(direct));
+  EXPECT_EQ(read_file(extended / "stats.csv"), read_file(direct / "stats.csv"));
+  EXPECT_EQ(count_frames(extended), count_frames(direct));
 }

@@ -164,10 +164,19 @@ TEST(RunFolder, ResumeNeedsAPreviousRun) {
   EXPECT_NE(error_of(d, RunFolderMode::Resume).find("no such folder"), std::string::npos);
   fs::create_directories(d);
   touch(d / "stats.csv.partial");
-  EXPECT_NE(error_of(d, RunFolderMode::Resume).find("holds no run.json"), std::string::npos);
+  EXPECT_NE(error_of(d, RunFolderMode::Resume).find("holds no run of grainflow"), std::string::npos);
   touch(d / "run.json", "{}");
-  RunFolder::open(d, RunFolderMode::Resume);
+  EXPECT_NE(error_of(d, RunFolderMode::Resume).find(".grainflow-files"), std::string::npos);
+  touch(d / ".grainflow-files", "stats.csv\n");
+  {
+    RunFolder f = RunFolder::open(d, RunFolderMode::Resume);
+    // The previous run's claims carry over, and a failed resume removes none of its files.
+    EXPECT_EQ(f.claimed(), std::vector<std::string>{"stats.csv"});
+    f.claim("checkpoints/checkpoint_1.gfck");
+    f.abandon();
+  }
   EXPECT_TRUE(fs::exists(d / "stats.csv.partial"));  // resume keeps everything
+  EXPECT_TRUE(fs::exists(d / "run.json"));
 }
 
 TEST(JsonWriter, StringEscaping) {

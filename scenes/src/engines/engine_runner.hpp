@@ -52,6 +52,13 @@ public:
   // mean bit-identical runs. Empty when the engine has none.
   virtual std::string state_digest() const { return {}; }
 
+  // Checkpoints (output.checkpoint_every, SIGINT/SIGTERM, run.max_wall): every mutable
+  // bit of the engine's state, the measurement windows of stats rows and frames included.
+  // load() restores it into a runner built from the same scene, which then continues bit
+  // for bit; it throws grainflow::Error when the saved state does not fit.
+  virtual void save(io::ArchiveWriter& w) const = 0;
+  virtual void load(io::ArchiveReader& r) = 0;
+
   // Engine-specific files in the run folder (DEM: pair.csv), opened once before the first
   // step; the run loop finishes or fails them with the table's outputs.
   virtual std::vector<std::unique_ptr<RunOutput>> open_outputs(const OutputContext& /*context*/) { return {}; }

@@ -1,6 +1,9 @@
 // The picture outputs: DIR/frames/frame_NNNNNN.png and DIR/<scene>.mp4 (H.264), fed with
 // the rendered frames through render's sinks (each on its own encoding thread).
+#include <filesystem>
 #include <string>
+
+#include "engine/core/error.hpp"
 
 #include "render/output/mp4_sink.hpp"
 #include "render/output/png_sequence_sink.hpp"
@@ -40,7 +43,20 @@ std::unique_ptr<render::FrameSink> open_mp4(const OutputContext& c) {
   opt.fps = int(c.scene.get(fps));
   opt.crf = int(c.scene.get(crf));
   opt.preset = c.scene.get(preset);
-  return std::make_unique<render::Mp4Sink>(c.dir / (c.name + ".mp4"), opt);
+  const std::filesystem::path file = c.dir / (c.name + ".mp4");
+  if (c.resume_frames && *c.resume_frames > 0) {
+    // The video continues from its first K frames: in the .partial a killed run left, or
+    // in the MP4 an interrupted run finished (which becomes the .partial again).
+    std::filesystem::path partial = file;
+    partial += ".partial";
+    std::error_code ec;
+    if (!std::filesystem::exists(partial, ec) && std::filesystem::exists(file, ec)) {
+      std::filesystem::rename(file, partial, ec);
+      if (ec) throw Error("cannot continue '" + file.string() + "': " + ec.message());
+    }
+    opt.resume_frames = *c.resume_frames;
+  }
+  return std::make_unique<render::Mp4Sink>(file, opt);
 }
 
 }  // namespace

@@ -2,6 +2,7 @@
 // periodic axes, radii and the colour attribute, for OVITO and ParaView.
 #include <optional>
 
+#include "engine/io/archive.hpp"
 #include "engine/io/xyz_writer.hpp"
 #include "scenes/src/outputs/output_table.hpp"
 #include "scenes/src/outputs/run_record.hpp"
@@ -34,15 +35,27 @@ void to_particle_frame(const render::Snapshot& s, core::ParticleFrame& f) {
 
 class ParticlesOutput final : public RunOutput {
 public:
-  explicit ParticlesOutput(const std::filesystem::path& file) : writer_(file.string()) {}
+  explicit ParticlesOutput(std::filesystem::path file) : file_(std::move(file)) {}
+  void start(const RunRecord&) override { writer_.emplace(file_.string()); }
+  void checkpoint(io::ArchiveWriter& w) override {
+    w.tag("particles.xyz");
+    w.pod(writer_->flush());
+    w.pod(writer_->frames());
+  }
+  void resume(io::ArchiveReader& r, const RunRecord&) override {
+    r.tag("particles.xyz");
+    const auto size = r.get<std::uint64_t>();
+    writer_.emplace(file_.string(), size, r.get<int>());
+  }
   void frame(std::int64_t, const render::Snapshot& s) override {
     to_particle_frame(s, frame_);
-    writer_.write(frame_);
+    writer_->write(frame_);
   }
-  void finish(const RunRecord&) override { writer_.close(); }
+  void finish(const RunRecord&) override { writer_->close(); }
 
 private:
-  io::XyzWriter writer_;
+  std::filesystem::path file_;
+  std::optional<io::XyzWriter> writer_;
   core::ParticleFrame frame_;
 };
 

@@ -6,12 +6,18 @@
 #include <cstdint>
 #include <filesystem>
 #include <functional>
+#include <optional>
 #include <span>
 #include <string>
 #include <string_view>
 #include <vector>
 
 #include "render/snapshot.hpp"
+
+namespace grainflow::io {
+class ArchiveWriter;
+class ArchiveReader;
+}  // namespace grainflow::io
 
 namespace grainflow::scenes {
 
@@ -31,13 +37,25 @@ struct OutputContext {
   // Every file an output writes in DIR is claimed first (relative name, or kFrameFiles),
   // so that --force later removes exactly what grainflow wrote (run/run_folder.hpp).
   std::function<void(std::string_view)> claim;
+  // Set when the run continues from a checkpoint (`grainflow run --resume`): the frames
+  // written before it. Outputs then get resume() instead of start().
+  std::optional<std::int64_t> resume_frames;
 };
 
+// Files are created in start() (or resume()), not when the output is opened: opening
+// only claims them, so a resume that fails leaves the folder as it was.
 class RunOutput {
 public:
   virtual ~RunOutput() = default;
   // Before the first step (run.json: status "running").
   virtual void start(const RunRecord& /*record*/) {}
+  // A checkpoint is being taken: flush what was written and save what resume() needs to
+  // continue from exactly here (file sizes, rows). Every output must decide what that is.
+  virtual void checkpoint(io::ArchiveWriter& w) = 0;
+  // Instead of start(), when the run continues from a checkpoint: read back what
+  // checkpoint() saved and continue the files from there (what was written after the
+  // checkpoint is cut off and written again).
+  virtual void resume(io::ArchiveReader& r, const RunRecord& record) = 0;
   // Every frame, in time order: particles and fields as drawn.
   virtual void frame(std::int64_t /*index*/, const render::Snapshot& /*snapshot*/) {}
   // Every stats row, in time order.

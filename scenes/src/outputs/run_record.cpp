@@ -68,6 +68,9 @@ std::string run_record_json(const RunRecord& r) {
   w.end_array();
   w.key("backend").value(r.backend);
   w.key("started_utc").value(r.started_utc);
+  w.key("resumes").value(r.resumes);
+  w.key("checkpoints").value(r.checkpoints);
+  w.key("checkpoint_seconds").value(r.checkpoint_seconds);
   w.key("wall_time_s").value(r.wall_time_s);
   w.key("sim_time").value(r.sim_time);
   w.key(r.target_kind.empty() ? "target" : r.target_kind).value(r.target);
@@ -99,6 +102,9 @@ class RunJsonOutput final : public RunOutput {
 public:
   explicit RunJsonOutput(std::filesystem::path file) : file_(std::move(file)) {}
   void start(const RunRecord& r) override { write_run_record(r, file_); }
+  // The record is rewritten whole from the run's figures: nothing to carry over.
+  void checkpoint(io::ArchiveWriter&) override {}
+  void resume(io::ArchiveReader&, const RunRecord& r) override { write_run_record(r, file_); }
   void progress(const RunRecord& r) override { write_run_record(r, file_); }
   void finish(const RunRecord& r) override { write_run_record(r, file_); }
   void fail(const RunRecord& r) override { write_run_record(r, file_); }

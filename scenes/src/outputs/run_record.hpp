@@ -31,6 +31,9 @@ struct RunRecord {
   std::vector<std::string> overrides;
   std::string backend;      // GL backend actually used ("egl (llvmpipe)"), or the requested one
   std::string started_utc;  // ISO 8601
+  std::int64_t resumes = 0;  // times the run was continued from a checkpoint (--resume)
+  std::int64_t checkpoints = 0;   // written by this session
+  double checkpoint_seconds = 0;  // wall time they took
   RunStatus status = RunStatus::Running;
   std::string error;  // set when status is Failed
   double wall_time_s = 0;

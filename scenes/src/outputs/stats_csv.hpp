@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "engine/io/partial_file.hpp"
 #include "scenes/src/scene/schema.hpp"
 
 namespace grainflow::scenes {
@@ -24,7 +25,15 @@ public:
   // Column names must be non-empty, unique, not "time", without , " or newlines
   // (grainflow::Error otherwise, as for an unwritable path).
   StatsCsv(std::filesystem::path final_path, std::vector<std::string> columns, double flush_interval_s = 1.0);
-  ~StatsCsv();  // flushes and closes; leaves the .partial file when finish() was not called
+  // Where a checkpoint left the file: its size after a flush and the rows in it.
+  struct Position {
+    std::uint64_t bytes = 0;
+    std::uint64_t rows = 0;
+  };
+  // Continues the file of a checkpointed run from `at` (io::PartialFile::resume).
+  StatsCsv(std::filesystem::path final_path, std::vector<std::string> columns, Position at,
+           double flush_interval_s = 1.0);
+  ~StatsCsv() = default;  // leaves the .partial file when finish() was not called
   StatsCsv(const StatsCsv&) = delete;
   StatsCsv& operator=(const StatsCsv&) = delete;
 
@@ -32,22 +41,22 @@ public:
   void row(double time, std::span<const double> values);
   void row(double time, std::initializer_list<double> values) { row(time, std::span<const double>(values.begin(), values.size())); }
   void flush();
+  // Flushes and says where the file stands (for a checkpoint).
+  Position position();
   // Flushes, closes and renames .partial to the final name. Idempotent.
   void finish();
 
-  const std::filesystem::path& final_path() const { return final_; }
-  const std::filesystem::path& partial_path() const { return partial_; }
+  const std::filesystem::path& final_path() const { return file_.final_path(); }
+  const std::filesystem::path& partial_path() const { return file_.partial_path(); }
   const std::vector<std::string>& columns() const { return columns_; }
   std::size_t rows() const { return rows_; }
-  bool finished() const { return finished_; }
+  bool finished() const { return file_.finished(); }
 
 private:
-  void check_write(bool ok);
-  std::filesystem::path final_, partial_;
+  static void check_columns(const std::vector<std::string>& columns);
   std::vector<std::string> columns_;
-  std::FILE* file_ = nullptr;
+  io::PartialFile file_;
   std::size_t rows_ = 0;
-  bool finished_ = false;
   std::chrono::steady_clock::duration flush_interval_;
   std::chrono::steady_clock::time_point last_flush_;
   std::string line_;

@@ -1,5 +1,8 @@
 // DIR/stats.csv: the engine's stats rows (time first, then its named columns), written
 // as stats.csv.partial until the run ends (stats_csv.hpp).
+#include <optional>
+
+#include "engine/io/archive.hpp"
 #include "scenes/src/outputs/output_table.hpp"
 #include "scenes/src/outputs/stats_csv.hpp"
 
@@ -8,12 +11,24 @@ namespace {
 
 class StatsOutput final : public RunOutput {
 public:
-  StatsOutput(const std::filesystem::path& file, std::vector<std::string> columns) : csv_(file, std::move(columns)) {}
-  void stats(double time, std::span<const double> row) override { csv_.row(time, row); }
-  void finish(const RunRecord&) override { csv_.finish(); }
+  StatsOutput(std::filesystem::path file, std::vector<std::string> columns)
+      : file_(std::move(file)), columns_(std::move(columns)) {}
+  void start(const RunRecord&) override { csv_.emplace(file_, columns_); }
+  void checkpoint(io::ArchiveWriter& w) override {
+    w.tag("stats.csv");
+    w.pod(csv_->position());
+  }
+  void resume(io::ArchiveReader& r, const RunRecord&) override {
+    r.tag("stats.csv");
+    csv_.emplace(file_, columns_, r.get<StatsCsv::Position>());
+  }
+  void stats(double time, std::span<const double> row) override { csv_->row(time, row); }
+  void finish(const RunRecord&) override { csv_->finish(); }
 
 private:
-  StatsCsv csv_;
+  std::filesystem::path file_;
+  std::vector<std::string> columns_;
+  std::optional<StatsCsv> csv_;
 };
 
 void declare(Schema& s) {

@@ -45,7 +45,8 @@ bool valid_claim(std::string_view name) {
 }
 
 // Removes a claimed file with what its writers leave beside it: `<name>.partial`
-// (stats.csv while running) and AtomicFile temporaries `<name>.tmp-<pid>-<n>`.
+// (stats.csv while running), `<name>.partial.resuming` (an MP4 being resumed) and
+// AtomicFile temporaries `<name>.tmp-<pid>-<n>`.
 void remove_claimed(const fs::path& dir, const std::string& name) {
   std::error_code ec;
   if (name == kFrameFiles) {
@@ -58,6 +59,8 @@ void remove_claimed(const fs::path& dir, const std::string& name) {
   fs::remove(p, ec);
   fs::path partial = p;
   partial += ".partial";
+  fs::remove(partial, ec);
+  partial += ".resuming";  // an MP4 resume killed while it copied the kept frames
   fs::remove(partial, ec);
   const std::string tmp_prefix = p.filename().string() + ".tmp-";
   for (const auto& e : fs::directory_iterator(p.parent_path(), ec))
@@ -111,8 +114,12 @@ RunFolder RunFolder::open(const fs::path& dir, RunFolderMode mode) {
         fs::remove(dir / kManifest, ec);
         break;
       case RunFolderMode::Resume:
-        if (!fs::exists(dir / "run.json", ec))
-          throw Error("cannot resume in '" + dir.string() + "': it holds no run.json from a previous run");
+        if (!fs::exists(dir / "run.json", ec) || !fs::exists(dir / kManifest, ec))
+          throw Error("cannot resume in '" + dir.string() + "': it holds no run of grainflow (no run.json or " +
+                      std::string(kManifest) + ")");
+        // Further claims add to the previous run's.
+        folder.claimed_ = read_manifest(dir / kManifest);
+        folder.resumed_ = true;
         break;
     }
   } else if (mode == RunFolderMode::Resume) {
@@ -152,6 +159,8 @@ void RunFolder::write_manifest() const {
 }
 
 void RunFolder::abandon() noexcept {
+  // A resume that failed to start leaves the previous run's files as they were.
+  if (resumed_) return;
   std::error_code ec;
   for (const auto& name : claimed_) remove_claimed(dir_, name);
   claimed_.clear();

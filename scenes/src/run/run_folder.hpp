@@ -16,7 +16,7 @@ namespace grainflow::scenes {
 enum class RunFolderMode {
   Fresh,   // DIR must be absent or empty
   Force,   // DIR may hold a previous grainflow run: the files it claimed are removed first
-  Resume,  // DIR must hold a previous run (run.json); nothing is removed
+  Resume,  // DIR must hold a previous run (run.json, manifest); nothing is removed
 };
 
 class RunFolder {
@@ -40,6 +40,7 @@ public:
 
   // For a start that failed before the first step: removes the claimed files, the
   // manifest, and DIR/frames and DIR where open() created them (when empty). Never throws.
+  // After a Resume open it removes nothing: those files are the previous run's.
   void abandon() noexcept;
 
 private:
@@ -48,6 +49,7 @@ private:
   std::filesystem::path dir_;
   std::vector<std::string> claimed_;
   bool created_dir_ = false, created_frames_ = false;
+  bool resumed_ = false;  // Resume: the claims are the previous run's; abandon() keeps them
 };
 
 }  // namespace grainflow::scenes

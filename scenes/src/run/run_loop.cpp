@@ -10,7 +10,11 @@
 #include <string>
 #include <vector>
 
+#include <fmt/format.h>
+
 #include "engine/core/error.hpp"
+#include "engine/io/archive.hpp"
+#include "engine/io/checkpoint_file.hpp"
 #include "render/context/gl_context.hpp"
 #include "render/frame_renderer.hpp"
 #include "render/output/fan_out_sink.hpp"
@@ -21,6 +25,7 @@
 #include "scenes/src/outputs/output_table.hpp"
 #include "scenes/src/outputs/run_record.hpp"
 #include "scenes/src/outputs/stats_csv.hpp"
+#include "scenes/src/run/checkpoints.hpp"
 #include "scenes/src/run/interrupt.hpp"
 #include "scenes/src/run/progress.hpp"
 #include "scenes/src/run/render_keys.hpp"
@@ -96,6 +101,22 @@ public:
     s.caption = caption(title_, exposure_, s);
   }
   const render::Image& draw(const render::Snapshot& s) { return renderer_->render(s, style_, layout_); }
+  // The colour range the first frame fixed: a resumed run draws with it too.
+  void save(io::ArchiveWriter& w) const {
+    w.tag("drawing");
+    w.pod(range_fixed_);
+    w.pod(style_.range.has_value());
+    const auto range = style_.range.value_or(std::make_pair(0.0, 0.0));
+    w.pod(range.first);
+    w.pod(range.second);
+  }
+  void load(io::ArchiveReader& r) {
+    r.tag("drawing");
+    r.pod(range_fixed_);
+    const bool has_range = r.get<bool>();
+    const double lo = r.get<double>(), hi = r.get<double>();
+    if (has_range) style_.range = std::make_pair(lo, hi);
+  }
 
 private:
   render::FrameLayout layout_;
@@ -131,6 +152,15 @@ public:
   bool draws() const { return draws_; }
   void start(const RunRecord& r) {
     for (auto& o : data_) o->start(r);
+  }
+  void resume(io::ArchiveReader& in, const RunRecord& r) {
+    for (auto& o : data_) o->resume(in, r);
+  }
+  // Every frame so far on disk as a prefix a resumed run continues (the MP4 closes its
+  // encoder's stream here and opens another), then each data output's position.
+  void checkpoint(io::ArchiveWriter& w) {
+    images_->sync();
+    for (auto& o : data_) o->checkpoint(w);
   }
   void frame(std::int64_t index, const render::Snapshot& s, const render::Image* image) {
     if (image) images_->consume(*image, index, s.time);
@@ -171,7 +201,15 @@ namespace loop_keys {
 void declare(Schema& s) {
   s.table("run")
       .add_float(max_wall, 0.0, "wall-clock limit: the run stops as \"interrupted\" when it is reached (0 = none)", "s")
-      .at_least(0.0);
+      .at_least(0.0)
+      .may_change_on_resume();
+  s.table("output")
+      .add_float(checkpoint_every, 0.0,
+                 "simulated time between checkpoints for `grainflow run --resume` (0 = only when interrupted and "
+                 "at run.max_wall); the run keeps the last two",
+                 "time units")
+      .at_least(0.0)
+      .may_change_on_resume();
   s.add_check([](const Scene& sc, SceneCheck& c) {
     // Each frame is drawn and stored, each row written: a scene asking for 10^300 of them
     // (sample.exposure = 1e-300) is a mistake, not a run.
@@ -191,6 +229,49 @@ void declare(Schema& s) {
 
 }  // namespace loop_keys
 
+namespace {
+
+// What the loop itself carries across a checkpoint.
+struct LoopState {
+  std::int64_t frame_index = 0;  // frames emitted
+  std::int64_t frames_due = 0, stats_due = 1, checkpoints_due = 1;
+  double t0 = 0;                 // frame and stats times are t0 + k·interval
+  double engine_seconds = 0;     // wall time inside the engine, for its own throughput
+  double wall_before = 0;        // wall time of the sessions before this one
+  std::int64_t resumes = 0;
+};
+
+// `name`: the stem of the scene file the run started from, which names the MP4 (a
+// resumed run reads DIR/scene.toml instead).
+void save_loop(io::ArchiveWriter& w, const LoopState& st, const RunRecord& record, const std::string& name) {
+  w.tag("loop");
+  w.pod(st);
+  w.string(record.started_utc);
+  w.string(name);
+  w.string(record.scene);
+  w.pod(std::uint64_t(record.overrides.size()));
+  for (const auto& o : record.overrides) w.string(o);
+}
+
+LoopState load_loop(io::ArchiveReader& r, RunRecord& record, std::string& name) {
+  r.tag("loop");
+  LoopState st = r.get<LoopState>();
+  record.started_utc = r.string();
+  name = r.string();
+  // run.json keeps saying which scene file and --set made the run; a resume's own --set
+  // (run.until, …) are added to them.
+  const std::vector<std::string> resume_overrides = record.overrides;
+  record.scene = r.string();
+  const auto n = r.get<std::uint64_t>();
+  if (n > r.left()) r.corrupt("a list of " + std::to_string(n) + " overrides");
+  record.overrides.clear();
+  for (std::uint64_t i = 0; i < n; ++i) record.overrides.push_back(r.string());
+  for (const auto& o : resume_overrides) record.overrides.push_back(o + " (on resume)");
+  return st;
+}
+
+}  // namespace
+
 int run_scene(const Scene& scene, const RunOptions& opt) {
   // Everything decided by the scene alone is checked before the folder exists.
   const auto grid = scene.get(render_keys::layout);
@@ -202,30 +283,65 @@ int run_scene(const Scene& scene, const RunOptions& opt) {
   std::unique_ptr<EngineRunner> runner = engine->make_runner(scene);
   FrameDrawing drawing(scene, layout);
 
-  RunFolder folder = RunFolder::open(opt.dir, opt.force ? RunFolderMode::Force : RunFolderMode::Fresh);
+  const RunFolderMode mode = opt.resume ? RunFolderMode::Resume : opt.force ? RunFolderMode::Force : RunFolderMode::Fresh;
+  RunFolder folder = RunFolder::open(opt.dir, mode);
+  CheckpointStore checkpoints(folder);
+  const bool by_steps = scene.has(run_keys::steps);
+  const double target = by_steps ? double(scene.get(run_keys::steps)) : scene.get(run_keys::until);
+  auto done = [&] { return by_steps ? double(runner->steps_done()) : runner->time(); };
+
   std::optional<RunOutputs> outputs_opened;
   RunRecord record = make_run_record(scene);
+  LoopState st;
+  std::string ctx_name;  // the MP4's name
   try {
-    folder.claim("scene.toml");
-    write_effective_scene(scene, folder.file("scene.toml"));
-    outputs_opened.emplace(OutputContext{scene, folder.dir(), opt.name, runner->stats_columns(),
-                                         [&folder](std::string_view name) { folder.claim(name); }},
-                           *runner);
+    std::optional<io::Checkpoint> resumed;
+    std::optional<io::ArchiveReader> in;
+    OutputContext ctx{scene, folder.dir(), opt.name, runner->stats_columns(),
+                      [&folder](std::string_view name) { folder.claim(name); }, std::nullopt};
+    if (opt.resume) {
+      // The state first: a checkpoint that does not fit is refused before any file changes.
+      resumed = checkpoints.read_latest(scene.engine(), scene.fingerprint());
+      in.emplace(resumed->payload, "checkpoint of " + folder.dir().string());
+      st = load_loop(*in, record, ctx.name);
+      drawing.load(*in);
+      runner->load(*in);
+      if (done() >= target)
+        throw Error(fmt::format("nothing to resume in '{}': the run reached {} = {:.6g} already; allowed: a larger "
+                                "--set run.{}=… to extend it",
+                                folder.dir().string(), by_steps ? "step" : "t", done(), by_steps ? "steps" : "until"));
+      ctx.resume_frames = st.frame_index;
+      ++st.resumes;
+    } else {
+      folder.claim("scene.toml");
+      write_effective_scene(scene, folder.file("scene.toml"));
+      st.t0 = runner->time();
+    }
+    ctx_name = ctx.name;
+    outputs_opened.emplace(ctx, *runner);
     record.backend = drawing.backend();
     record.status = RunStatus::Running;
-    outputs_opened->start(record);
+    record.resumes = st.resumes;
+    if (in) {
+      outputs_opened->resume(*in, record);
+      in->expect_end();
+      std::fprintf(stderr, "grainflow: resuming at %s = %.6g (frame %lld) from %s\n", by_steps ? "step" : "t",
+                   done(), static_cast<long long>(st.frame_index), folder.dir().c_str());
+    } else {
+      outputs_opened->start(record);
+    }
   } catch (...) {
-    // A failed start leaves no trace of this run: its files, and the folder if it was new.
+    // A failed start leaves no trace of this run: its files, and the folder if it was new
+    // (a failed resume leaves the previous run's files as they were).
     outputs_opened.reset();
     folder.abandon();
     throw;
   }
   RunOutputs& out = *outputs_opened;
 
-  const bool by_steps = scene.has(run_keys::steps);
-  const double target = by_steps ? double(scene.get(run_keys::steps)) : scene.get(run_keys::until);
   const double exposure = scene.get(sample_keys::exposure);
   const double stats_every = scene.get(stats_keys::every) > 0 ? scene.get(stats_keys::every) : exposure;
+  const double checkpoint_every = scene.get(loop_keys::checkpoint_every);
   ProgressReporter::Options popt;
   popt.target = target;
   popt.label = by_steps ? "step" : "t";
@@ -234,25 +350,41 @@ int run_scene(const Scene& scene, const RunOptions& opt) {
 
   InterruptGuard interrupts;
   render::Snapshot snapshot;
-  std::int64_t frame_index = 0;
-  // Frame and stats times are t0 + k·interval (not accumulated sums, which drift).
-  const double t0 = runner->time();
-  std::int64_t frames_due = 0, stats_due = 1;
-  auto next_frame = [&] { return t0 + double(frames_due) * exposure; };
-  auto next_stats = [&] { return t0 + double(stats_due) * stats_every; };
-  double engine_seconds = 0;  // wall time inside the engine, for its own throughput
+  auto next_frame = [&] { return st.t0 + double(st.frames_due) * exposure; };
+  auto next_stats = [&] { return st.t0 + double(st.stats_due) * stats_every; };
+  auto next_checkpoint = [&] { return st.t0 + double(st.checkpoints_due) * checkpoint_every; };
   const auto wall_start = std::chrono::steady_clock::now();
+  auto wall = [&] { return st.wall_before + seconds_since(wall_start); };
   auto emit_frame = [&] {
     runner->snapshot(drawing.colour_by(), snapshot);
     drawing.prepare(snapshot);
-    out.frame(frame_index++, snapshot, out.draws() ? &drawing.draw(snapshot) : nullptr);
+    out.frame(st.frame_index++, snapshot, out.draws() ? &drawing.draw(snapshot) : nullptr);
   };
-  auto done = [&] { return by_steps ? double(runner->steps_done()) : runner->time(); };
+  std::string checkpoint_buffer;  // kept from one checkpoint to the next
+  // Between two slices of the loop: a resumed run continues with the next slice exactly
+  // as the uninterrupted run would have (slices do not depend on when checkpoints are
+  // taken, so neither do the numbers).
+  auto take_checkpoint = [&] {
+    const auto t_start = std::chrono::steady_clock::now();
+    io::ArchiveWriter w(std::move(checkpoint_buffer));
+    LoopState saved = st;
+    saved.wall_before = wall();
+    save_loop(w, saved, record, ctx_name);
+    drawing.save(w);
+    runner->save(w);
+    out.checkpoint(w);
+    checkpoints.write({scene.engine(), scene.fingerprint(), runner->time(), st.frame_index, 0}, w.bytes());
+    checkpoint_buffer = w.take();
+    record.checkpoint_seconds += seconds_since(t_start);
+    ++record.checkpoints;
+  };
 
   RunStatus status = RunStatus::Complete;
   try {
-    emit_frame();
-    ++frames_due;
+    if (!opt.resume) {
+      emit_frame();
+      ++st.frames_due;
+    }
     // Advance in slices of at most 1/20 exposure so progress and Ctrl-C stay responsive.
     const double slice = exposure / 20;
     const std::uint64_t step_slice = 1000;
@@ -273,55 +405,61 @@ int run_scene(const Scene& scene, const RunOptions& opt) {
       const auto engine_start = std::chrono::steady_clock::now();
       if (by_steps) runner->advance_steps(std::min<std::uint64_t>(step_slice, std::uint64_t(target - done())));
       else runner->advance_to(slice_end(runner->time() + slice, {next_frame(), next_stats(), target}));
-      engine_seconds += seconds_since(engine_start);
+      st.engine_seconds += seconds_since(engine_start);
       const double t = runner->time();
       const double eps = 1e-9 * std::max(1.0, std::abs(t));
       if (t >= next_stats() - eps) {
         // Rows carry their scheduled time when the engine stopped there up to round-off.
         const double row_time = std::abs(t - next_stats()) <= eps ? next_stats() : t;
         out.stats(row_time, runner->stats_row());
-        while (next_stats() <= t + eps) ++stats_due;
+        while (next_stats() <= t + eps) ++st.stats_due;
       }
       if (t >= next_frame() - eps) {
         emit_frame();
-        while (next_frame() <= t + eps) ++frames_due;
+        while (next_frame() <= t + eps) ++st.frames_due;
+      }
+      if (checkpoint_every > 0 && t >= next_checkpoint() - eps && done() < target) {
+        while (next_checkpoint() <= t + eps) ++st.checkpoints_due;
+        take_checkpoint();
       }
       progress.update(done(), runner->work());
       if (seconds_since(last_record) >= kRecordEvery) {
         record.sim_time = runner->time();
-        record.frames = frame_index;
-        record.wall_time_s = seconds_since(wall_start);
+        record.frames = st.frame_index;
+        record.wall_time_s = wall();
         out.progress(record);
         last_record = std::chrono::steady_clock::now();
       }
     }
     progress.finish(done(), runner->work());
     runner->check_finite();
+    // An interrupted run can always be resumed; a complete one can be extended (a larger
+    // run.until) when it keeps checkpoints.
+    if (status == RunStatus::Interrupted || checkpoint_every > 0) take_checkpoint();
     out.finish_images();
-    const double wall = seconds_since(wall_start);
     record.status = status;
-    record.wall_time_s = wall;
+    record.wall_time_s = wall();
     record.sim_time = runner->time();
-    record.frames = frame_index;
+    record.frames = st.frame_index;
     // The engine's own rate (time inside the engine) and the whole run's, drawing included.
     const std::string unit = runner->work_unit();
-    record.throughput = {{unit, runner->work() / std::max(engine_seconds, 1e-9), unit + "/s"},
-                         {unit + "_overall", runner->work() / wall, unit + "/s"},
-                         {"frames", double(frame_index) / wall, "frames/s"}};
+    record.throughput = {{unit, runner->work() / std::max(st.engine_seconds, 1e-9), unit + "/s"},
+                         {unit + "_overall", runner->work() / record.wall_time_s, unit + "/s"},
+                         {"frames", double(st.frame_index) / record.wall_time_s, "frames/s"}};
     record.figures = runner->figures();
     record.state_digest = runner->state_digest();
     out.finish(record);
   } catch (const std::exception& e) {
     record.status = RunStatus::Failed;
     record.error = e.what();
-    record.wall_time_s = seconds_since(wall_start);
+    record.wall_time_s = wall();
     out.fail(record);
     throw;
   }
   if (!opt.quiet)
     std::printf("%s: %lld frames, t = %.6g, engine %.3g %s/s, %.1f s wall → %s\n",
-                status == RunStatus::Complete ? "complete" : "interrupted", static_cast<long long>(frame_index),
-                runner->time(), runner->work() / std::max(engine_seconds, 1e-9), runner->work_unit().c_str(),
+                status == RunStatus::Complete ? "complete" : "interrupted", static_cast<long long>(st.frame_index),
+                runner->time(), runner->work() / std::max(st.engine_seconds, 1e-9), runner->work_unit().c_str(),
                 record.wall_time_s, folder.dir().c_str());
   return status == RunStatus::Complete ? 0 : 130;
 }

@@ -15,6 +15,8 @@ class Scene;
 namespace loop_keys {
 // Wall-clock limit of a run [s] (0 = none): reached, the run stops as "interrupted".
 inline constexpr Key<double> max_wall{"run.max_wall"};
+// Simulated time between checkpoints (0 = only when interrupted or at max_wall).
+inline constexpr Key<double> checkpoint_every{"output.checkpoint_every"};
 // Declares run.max_wall and the bounds on frames and stats rows a scene may ask for.
 void declare(Schema& s);
 }  // namespace loop_keys
@@ -22,6 +24,9 @@ void declare(Schema& s);
 struct RunOptions {
   std::filesystem::path dir;  // the run folder
   bool force = false;         // replace a previous run's results in `dir`
+  // Continue the run in `dir` from its newest checkpoint (the scene is DIR/scene.toml,
+  // with --set overrides of keys marked may_change_on_resume only).
+  bool resume = false;
   std::string name;           // the MP4's name: DIR/<name>.mp4 (the scene file's stem)
   bool quiet = false;         // no summary line on stdout
 };

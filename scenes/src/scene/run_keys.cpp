@@ -12,10 +12,12 @@ void declare(Schema& s, std::span<const std::string> engine_names) {
   run.add_float(until, 0.0, "simulated time to reach (ED: σ√(m/kT) units with σ = m = 1; DEM: seconds)",
                 "time units")
       .above(0.0)
-      .optional();
+      .optional()
+      .may_change_on_resume();
   run.add_int(steps, 0, "number of steps to run instead of `until` (DEM: integration steps; ED: events)")
       .at_least(1)
-      .optional();
+      .optional()
+      .may_change_on_resume();
   run.add_int(seed, 1, "seed of the run's one random generator; same scene + seed ⇒ same numbers").at_least(0);
   run.add_string(title, "", "free text shown in labels and recorded in run.json");
   s.add_check([](const Scene& sc, SceneCheck& c) {

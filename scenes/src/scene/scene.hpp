@@ -68,6 +68,10 @@ public:
 
   // The effective scene as TOML, in schema order, each key with its doc as a comment.
   std::string to_toml() const;
+  // Hash of every value but those of keys marked may_change_on_resume (run.until, outputs
+  // that decide nothing a checkpoint holds): a checkpoint records it, and a resume with a
+  // scene of another fingerprint is refused.
+  std::uint64_t fingerprint() const;
 
   const Impl& impl() const { return *impl_; }
 

@@ -77,6 +77,9 @@ struct KeySpec {
   // A file path relative to the scene file: the effective scene.toml of a run folder
   // writes it resolved, so `grainflow run DIR/scene.toml` finds the same file.
   bool is_path = false;
+  // `grainflow run --resume --set` may change it: it decides nothing the checkpointed state
+  // depends on (run.until, run.max_wall, output.checkpoint_every).
+  bool resumable = false;
 
   // Fluent refinements, so registration reads like a table.
   KeySpec& at_least(double v) { min = v; min_exclusive = false; return *this; }
@@ -88,6 +91,7 @@ struct KeySpec {
   KeySpec& length(std::size_t lo, std::size_t hi) { min_length = lo; max_length = hi; return *this; }
   KeySpec& with_note(std::string n) { note = std::move(n); return *this; }
   KeySpec& path() { is_path = true; return *this; }
+  KeySpec& may_change_on_resume() { resumable = true; return *this; }
 
   // "0 < value ≤ 1", "" when unbounded.
   std::string range_text() const;

@@ -17,6 +17,8 @@
 #include "engine/core/error.hpp"
 #include "engine/io/particle_reader.hpp"
 #include "engine/core/state_digest.hpp"
+#include "engine/io/archive.hpp"
+#include "engine/io/partial_file.hpp"
 #include "engine/dem/field_sampler.hpp"
 #include "engine/dem/simulation.hpp"
 #include "engine/dem/pair_probe.hpp"
@@ -192,36 +194,36 @@ core::BinningOptions binning_options(const Scene& sc, const dem::Config& cfg) {
 // pair.csv (output.pair_csv): particles 1 and 2 of the scene every output.pair_every
 // steps, the force–separation record of Fig. 5.6–5.16 as dem::sample_pair measures it
 // (engine/dem/pair_probe.hpp: separation α, normal_force, vdw_force = the cohesion
-// sub-model's attraction, contact_force, v_rel_n). Written through AtomicFile.
+// sub-model's attraction, contact_force, v_rel_n). Written as pair.csv.partial until the run ends (io::PartialFile).
 class PairProbe final : public RunOutput {
 public:
-  explicit PairProbe(const std::filesystem::path& file) : file_(file) {
-    out_ = std::fopen(file_.path().c_str(), "w");
-    if (!out_) throw Error("cannot write " + file_.path().string());
-    std::fputs("step,time,separation,normal_force,vdw_force,contact_force,v_rel_n\n", out_);
-  }
-  ~PairProbe() override {
-    if (out_) std::fclose(out_);
-  }
-  PairProbe(const PairProbe&) = delete;
-  PairProbe& operator=(const PairProbe&) = delete;
+  PairProbe(std::filesystem::path file, const dem::Simulation& sim) : path_(std::move(file)), sim_(sim) {}
 
-  void record(const dem::Simulation& sim) {
-    const dem::PairSample p = dem::sample_pair(sim, 0, 1);
-    std::fprintf(out_, "%llu,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g\n", static_cast<unsigned long long>(sim.steps()),
-                 sim.time(), p.separation, p.normal_force, p.cohesion_force, p.contact_force, p.v_rel_n);
+  void start(const RunRecord&) override {
+    file_.emplace(io::PartialFile::create(path_));
+    file_->write("step,time,separation,normal_force,vdw_force,contact_force,v_rel_n\n");
+    record();
   }
-  void finish(const RunRecord&) override {
-    if (!out_) return;
-    const bool ok = std::fclose(out_) == 0;
-    out_ = nullptr;
-    if (!ok) throw Error("cannot write " + file_.path().string());
-    file_.commit();
+  void checkpoint(io::ArchiveWriter& w) override {
+    file_->flush();
+    w.tag("pair.csv");
+    w.pod(file_->size());
   }
+  void resume(io::ArchiveReader& r, const RunRecord&) override {
+    r.tag("pair.csv");
+    file_.emplace(io::PartialFile::resume(path_, r.get<std::uint64_t>()));
+  }
+  void record() {
+    const dem::PairSample p = dem::sample_pair(sim_, 0, 1);
+    file_->write(fmt::format("{},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g}\n", sim_.steps(), sim_.time(),
+                             p.separation, p.normal_force, p.cohesion_force, p.contact_force, p.v_rel_n));
+  }
+  void finish(const RunRecord&) override { file_->finish(); }
 
 private:
-  io::AtomicFile file_;
-  std::FILE* out_ = nullptr;
+  std::filesystem::path path_;
+  const dem::Simulation& sim_;
+  std::optional<io::PartialFile> file_;
 };
 
 // What render.color_by may colour a sphere by: the one list the schema offers and the
@@ -261,9 +263,8 @@ public:
     if (sim_.size() < 2)
       throw Error("output.pair_csv = true needs at least 2 particles; the scene has " + std::to_string(sim_.size()));
     context.claim("pair.csv");
-    auto probe = std::make_unique<PairProbe>(context.dir / "pair.csv");
+    auto probe = std::make_unique<PairProbe>(context.dir / "pair.csv", sim_);
     pair_ = probe.get();
-    pair_->record(sim_);
     out.push_back(std::move(probe));
     return out;
   }
@@ -347,6 +348,19 @@ public:
             {"dt", sim_.dt()},
             {"threads", double(dem::thread_count())}};
   }
+  void save(io::ArchiveWriter& w) const override {
+    sim_.save_state(w);
+    w.tag("dem.runner");
+    io::save(w, fields_);  // the exposure being accumulated
+    w.pod(next_sample_);
+  }
+  void load(io::ArchiveReader& r) override {
+    sim_.load_state(r);
+    r.tag("dem.runner");
+    io::load(r, fields_);
+    r.pod(next_sample_);
+  }
+
   std::string state_digest() const override {
     // Positions, velocities and spins in particle order, through the public accessors so
     // the digest does not depend on the engine's internal layout.
@@ -379,7 +393,7 @@ private:
       const std::uint64_t k = std::min(n, pair_every_ - sim_.steps() % pair_every_);
       sim_.step(k);
       n -= k;
-      if (sim_.steps() % pair_every_ == 0) pair_->record(sim_);
+      if (sim_.steps() % pair_every_ == 0) pair_->record();
     }
   }
 

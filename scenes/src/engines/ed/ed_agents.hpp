@@ -20,6 +20,10 @@
 namespace grainflow::ed {
 class Simulation;
 }
+namespace grainflow::io {
+class ArchiveWriter;
+class ArchiveReader;
+}  // namespace grainflow::io
 
 namespace grainflow::scenes {
 
@@ -39,6 +43,10 @@ public:
   virtual void stats_row(double /*duration*/, std::vector<double>& /*row*/) {}
   // Totals for run.json.
   virtual void figures(std::vector<std::pair<std::string, double>>& /*out*/) const {}
+  // What the run keeps besides the agent's engine state (which the simulation's checkpoint
+  // holds): e.g. the stats window's starting values. Every row must decide.
+  virtual void save(io::ArchiveWriter& w) const = 0;
+  virtual void load(io::ArchiveReader& r) = 0;
 };
 
 struct EdAgentEntry {

@@ -11,6 +11,7 @@
 #include "engine/core/state_digest.hpp"
 #include "engine/ed/field_sampler.hpp"
 #include "engine/ed/simulation.hpp"
+#include "engine/io/archive.hpp"
 #include "scenes/src/engines/ed/ed_agents.hpp"
 #include "scenes/src/engines/ed/ed_keys.hpp"
 #include "scenes/src/engines/colour_attributes.hpp"
@@ -179,6 +180,19 @@ public:
     return f;
   }
 
+
+  void save(io::ArchiveWriter& w) const override {
+    sim_.save_state(w);  // the sampler's partial exposure and every agent's state included
+    w.tag("ed.runner");
+    w.pod(std::uint64_t(agents_.size()));
+    for (const auto& a : agents_) a->save(w);
+  }
+  void load(io::ArchiveReader& r) override {
+    sim_.load_state(r);
+    r.tag("ed.runner");
+    if (r.get<std::uint64_t>() != agents_.size()) r.mismatch("another set of agents (obstacle, stream boundaries)");
+    for (const auto& a : agents_) a->load(r);
+  }
 
   std::string state_digest() const override {
     // Each present disk as stored (position and velocity at its own clock, spin), in slot

@@ -4,6 +4,7 @@
 #include <memory>
 
 #include "engine/core/rng.hpp"
+#include "engine/io/archive.hpp"
 #include "engine/ed/circular_obstacle.hpp"
 #include "engine/ed/simulation.hpp"
 #include "scenes/src/engines/ed/ed_agents.hpp"
@@ -59,6 +60,17 @@ public:
   }
   void figures(std::vector<std::pair<std::string, double>>& out) const override {
     out.emplace_back("obstacle_hits", double(obstacle_.hits()));
+  }
+  // The drag window's start (the obstacle's impulse itself is in the engine's state).
+  void save(io::ArchiveWriter& w) const override {
+    w.tag("obstacle.run");
+    w.pod(impulse_at_reset_.x());
+    w.pod(impulse_at_reset_.y());
+  }
+  void load(io::ArchiveReader& r) override {
+    r.tag("obstacle.run");
+    const double x = r.get<double>();
+    impulse_at_reset_ = Vec2(x, r.get<double>());
   }
 
 private:

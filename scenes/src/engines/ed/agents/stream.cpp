@@ -6,6 +6,7 @@
 #include <numbers>
 
 #include "engine/core/rng.hpp"
+#include "engine/io/archive.hpp"
 #include "engine/ed/dense_stream.hpp"
 #include "engine/ed/low_density_stream.hpp"
 #include "engine/ed/simulation.hpp"
@@ -76,11 +77,21 @@ double stream_area_fraction(const Scene& sc, const ed::Config& c) {
   return double(c.n) * std::numbers::pi / 4.0 / (c.lx * c.ly);
 }
 
+// The inlet/outlet pair: nothing to draw or mask, and no state beyond its agents'.
+class LowDensityStreamRun final : public EdAgentRun {
+public:
+  void save(io::ArchiveWriter&) const override {}
+  void load(io::ArchiveReader&) override {}
+};
+
 class DenseStreamRun final : public EdAgentRun {
 public:
   explicit DenseStreamRun(ed::DenseStream d) : dense_(d) {}
   // Frozen disks beyond the filter are not sampled: no gas there.
   bool solid(const Vec2& p) const override { return dense_.filter && p.x() > dense_.filter->plane(); }
+  // Only pointers to agents, whose state the simulation's checkpoint holds.
+  void save(io::ArchiveWriter&) const override {}
+  void load(io::ArchiveReader&) override {}
 
 private:
   ed::DenseStream dense_;  // agents owned by the simulation
@@ -109,7 +120,7 @@ std::unique_ptr<EdAgentRun> attach(const Scene& sc, ed::Simulation& sim) {
     const double x_out = c.lx - 1.0;
     sim.remove_disks_unless([&](int i) { return sim.disks()[i].x >= l.x_in && sim.disks()[i].x <= x_out; });
     ed::add_low_density_stream(sim, l);
-    return std::make_unique<EdAgentRun>();
+    return std::make_unique<LowDensityStreamRun>();
   }
   return nullptr;  // periodic in x: nothing to attach
 }
