@@ -807,3 +807,19 @@ TEST(CliRun, ACompleteRunIsExtendedByResumeToTheSameBits) {
   EXPECT_EQ(read_file(extended / "stats.csv"), read_file(direct / "stats.csv"));
   EXPECT_EQ(count_frames(extended), count_frames(direct));
 }
+
+TEST(CliRun, MaxStepsStopsAtAReproduciblePointAndResumes) {
+  const std::string common = "run " + scenes + "/disks_box.toml --set render.size=[64,64] --set output.mp4=false "
+                             "--set run.until=30 ";
+  const fs::path direct = fresh_dir("max_steps_direct"), stopped = fresh_dir("max_steps_stopped");
+  ASSERT_EQ(run(common + "-o " + direct.string()).status, 0);
+  const Result r = run(common + "--set run.max_steps=200000 -o " + stopped.string());
+  EXPECT_EQ(r.status, 130) << r.output;
+  EXPECT_TRUE(contains(r.output, "run.max_steps")) << r.output;
+  EXPECT_TRUE(contains(read_file(stopped / "run.json"), "\"status\": \"interrupted\""));
+  EXPECT_TRUE(fs::exists(stopped / "checkpoints/checkpoint_1.gfck"));
+  const Result resumed = run("run --resume " + stopped.string() + " --set run.max_steps=0");
+  ASSERT_EQ(resumed.status, 0) << resumed.output;
+  EXPECT_EQ(state_digest(stopped), state_digest(direct));
+  EXPECT_EQ(read_file(stopped / "stats.csv"), read_file(direct / "stats.csv"));
+}

@@ -51,10 +51,11 @@ TEST(RunFolder, CreatesFolderAndFrames) {
   EXPECT_TRUE(fs::is_directory(d / "frames"));
   EXPECT_EQ(f.file("stats.csv"), d / "stats.csv");
   EXPECT_EQ(f.frames_dir(), d / "frames");
-  // Only frames/ and the (empty) file list are left: the write probe is removed.
+  // Only frames/, the (empty) file list and the lock are left: the write probe is removed.
   std::size_t n = 0;
   for ([[maybe_unused]] const auto& e : fs::directory_iterator(d)) ++n;
-  EXPECT_EQ(n, 2u);
+  EXPECT_EQ(n, 3u);
+  EXPECT_TRUE(fs::exists(d / RunFolder::kLock));
   EXPECT_TRUE(fs::exists(d / RunFolder::kManifest));
   // An existing empty folder is fine.
   const fs::path e = fresh("empty");
@@ -150,13 +151,32 @@ TEST(RunFolder, UnwritableOrInvalidPath) {
   // Tests run as root, for whom chmod does not make a folder unwritable: use a path under
   // a regular file instead.
   std::string msg = error_of("/etc/passwd/run", RunFolderMode::Fresh);
-  EXPECT_NE(msg.find("cannot create run folder '/etc/passwd/run/frames': Not a directory"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("cannot create run folder '/etc/passwd/run': Not a directory"), std::string::npos) << msg;
   msg = error_of("/etc/passwd", RunFolderMode::Fresh);
   EXPECT_NE(msg.find("exists and is not a directory"), std::string::npos) << msg;
   msg = error_of("/proc/grainflow-run", RunFolderMode::Fresh);
-  EXPECT_NE(msg.find("cannot create run folder '/proc/grainflow-run/frames'"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("cannot create run folder '/proc/grainflow-run'"), std::string::npos) << msg;
   msg = error_of("", RunFolderMode::Fresh);
   EXPECT_NE(msg.find("empty path"), std::string::npos) << msg;
+}
+
+TEST(RunFolder, AFolderInUseIsRefusedUntilItsProcessLetsGo) {
+  const fs::path d = fresh("locked");
+  {
+    const RunFolder live = RunFolder::open(d, RunFolderMode::Fresh);
+    touch(d / "run.json", "{}");
+    for (RunFolderMode m : {RunFolderMode::Force, RunFolderMode::Resume})
+      EXPECT_NE(error_of(d, m).find("in use by another grainflow process"), std::string::npos);
+    EXPECT_TRUE(fs::exists(d / "run.json"));  // --force removed nothing
+  }
+  // Released (as when the process ends, however it ends): --force goes ahead.
+  RunFolder::open(d, RunFolderMode::Force);
+  // A refused folder keeps no lock file of ours.
+  const fs::path mine = fresh("users_own");
+  fs::create_directories(mine);
+  touch(mine / "holiday.mp4");
+  EXPECT_NE(error_of(mine, RunFolderMode::Force).find("holds no grainflow run"), std::string::npos);
+  EXPECT_FALSE(fs::exists(mine / RunFolder::kLock));
 }
 
 TEST(RunFolder, ResumeNeedsAPreviousRun) {

@@ -1,6 +1,13 @@
 #include "scenes/src/run/run_folder.hpp"
 
+#include <fcntl.h>
+#include <sys/file.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
 #include <fstream>
+#include <utility>
 #include <algorithm>
 #include <regex>
 #include <system_error>
@@ -98,6 +105,16 @@ RunFolder RunFolder::open(const fs::path& dir, RunFolderMode mode) {
   if (exists) {
     const bool empty = fs::is_empty(dir, ec);
     if (ec) throw Error("cannot read run folder '" + dir.string() + "': " + ec.message());
+    // Before --force removes anything or --resume reads anything.
+    if (mode != RunFolderMode::Fresh && !empty) folder.lock();
+    struct DropLock {  // a refused folder keeps no lock file of ours
+      RunFolder& f;
+      bool armed = true;
+      ~DropLock() {
+        std::error_code e;
+        if (armed && f.created_lock_) fs::remove(f.dir_ / kLock, e);
+      }
+    } drop{folder};
     switch (mode) {
       case RunFolderMode::Fresh:
         if (!empty)
@@ -122,11 +139,17 @@ RunFolder RunFolder::open(const fs::path& dir, RunFolderMode mode) {
         folder.resumed_ = true;
         break;
     }
+    drop.armed = false;
   } else if (mode == RunFolderMode::Resume) {
     throw Error("cannot resume in '" + dir.string() + "': no such folder");
   }
 
   folder.created_dir_ = !exists;
+  if (folder.lock_fd_ < 0) {
+    fs::create_directories(dir, ec);
+    if (ec) throw Error("cannot create run folder '" + dir.string() + "': " + ec.message());
+    folder.lock();
+  }
   folder.created_frames_ = !fs::exists(dir / "frames", ec);
   fs::create_directories(dir / "frames", ec);
   if (ec) throw Error("cannot create run folder '" + (dir / "frames").string() + "': " + ec.message());
@@ -140,6 +163,31 @@ RunFolder RunFolder::open(const fs::path& dir, RunFolderMode mode) {
   }
   if (mode != RunFolderMode::Resume) folder.write_manifest();
   return folder;
+}
+
+void RunFolder::lock() {
+  const fs::path file = dir_ / kLock;
+  const bool existed = fs::exists(file);
+  lock_fd_ = ::open(file.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+  if (lock_fd_ < 0)
+    throw Error("run folder '" + dir_.string() + "' is not writable (" + file.string() + ": " + std::strerror(errno) + ")");
+  created_lock_ = !existed;
+  if (::flock(lock_fd_, LOCK_EX | LOCK_NB) != 0) {
+    ::close(lock_fd_);
+    lock_fd_ = -1;
+    throw Error("run folder '" + dir_.string() + "' is in use by another grainflow process (its run or render is "
+                "still going); allowed: wait for it, stop it (Ctrl-C writes a checkpoint), or choose another folder");
+  }
+}
+
+RunFolder::RunFolder(RunFolder&& o) noexcept
+    : dir_(std::move(o.dir_)), claimed_(std::move(o.claimed_)), created_dir_(o.created_dir_),
+      created_frames_(o.created_frames_), resumed_(o.resumed_), created_lock_(o.created_lock_),
+      lock_fd_(std::exchange(o.lock_fd_, -1)) {}
+
+RunFolder::~RunFolder() {
+  // Closing releases the lock (so does the kernel when a killed process's files close).
+  if (lock_fd_ >= 0) ::close(lock_fd_);
 }
 
 void RunFolder::claim(std::string_view name) {
@@ -165,6 +213,7 @@ void RunFolder::abandon() noexcept {
   for (const auto& name : claimed_) remove_claimed(dir_, name);
   claimed_.clear();
   fs::remove(dir_ / kManifest, ec);
+  if (created_lock_) fs::remove(dir_ / kLock, ec);
   if (created_frames_) fs::remove(dir_ / "frames", ec);  // only when empty
   if (created_dir_) fs::remove(dir_, ec);
 }

@@ -23,6 +23,10 @@ class RunFolder {
 public:
   // The manifest of claimed files, one relative name a line.
   static constexpr std::string_view kManifest = ".grainflow-files";
+  // Held (flock) by the process writing in DIR, so a second run, render, --force or
+  // --resume in the same folder is refused instead of writing over a live run. The kernel
+  // releases it when the process ends, however it ends. Never claimed: --force keeps it.
+  static constexpr std::string_view kLock = ".grainflow-lock";
 
   // Creates DIR and DIR/frames/ (with parents) and checks DIR is writable. Force refuses
   // a non-empty DIR without a manifest ("holds no grainflow run"). Throws grainflow::Error
@@ -43,13 +47,20 @@ public:
   // After a Resume open it removes nothing: those files are the previous run's.
   void abandon() noexcept;
 
+  RunFolder(RunFolder&& o) noexcept;
+  RunFolder& operator=(RunFolder&&) = delete;
+  ~RunFolder();
+
 private:
   explicit RunFolder(std::filesystem::path dir) : dir_(std::move(dir)) {}
+  void lock();  // throws grainflow::Error when another process holds DIR
   void write_manifest() const;
   std::filesystem::path dir_;
   std::vector<std::string> claimed_;
   bool created_dir_ = false, created_frames_ = false;
   bool resumed_ = false;  // Resume: the claims are the previous run's; abandon() keeps them
+  bool created_lock_ = false;
+  int lock_fd_ = -1;
 };
 
 }  // namespace grainflow::scenes

@@ -203,6 +203,12 @@ void declare(Schema& s) {
       .add_float(max_wall, 0.0, "wall-clock limit: the run stops as \"interrupted\" when it is reached (0 = none)", "s")
       .at_least(0.0)
       .may_change_on_resume();
+  s.table("run")
+      .add_int(max_steps, 0,
+               "engine work this invocation may do (ED: events, DEM: steps): reached, the run stops as "
+               "\"interrupted\" with a checkpoint (0 = no limit)")
+      .at_least(0)
+      .may_change_on_resume();
   s.table("output")
       .add_float(checkpoint_every, 0.0,
                  "simulated time between checkpoints for `grainflow run --resume` (0 = only when interrupted and "
@@ -389,11 +395,19 @@ int run_scene(const Scene& scene, const RunOptions& opt) {
     const double slice = exposure / 20;
     const std::uint64_t step_slice = 1000;
     const double max_wall = scene.get(loop_keys::max_wall);
+    const std::uint64_t max_steps = std::uint64_t(scene.get(loop_keys::max_steps));
+    const std::uint64_t steps_at_start = runner->steps_done();
     // run.json is refreshed this often while running: after a SIGKILL it says how far the run got.
     constexpr double kRecordEvery = 10.0;
     auto last_record = std::chrono::steady_clock::now();
     while (done() < target) {
       if (stop_requested()) {
+        status = RunStatus::Interrupted;
+        break;
+      }
+      if (max_steps > 0 && runner->steps_done() - steps_at_start >= max_steps) {
+        std::fprintf(stderr, "grainflow: run.max_steps = %llu reached, stopping\n",
+                     static_cast<unsigned long long>(max_steps));
         status = RunStatus::Interrupted;
         break;
       }

@@ -15,9 +15,13 @@ class Scene;
 namespace loop_keys {
 // Wall-clock limit of a run [s] (0 = none): reached, the run stops as "interrupted".
 inline constexpr Key<double> max_wall{"run.max_wall"};
+// Engine work this invocation may do (ED: events, DEM: steps; 0 = no limit): reached, the
+// run stops as "interrupted" with a checkpoint, like max_wall, but at a reproducible point.
+inline constexpr Key<std::int64_t> max_steps{"run.max_steps"};
 // Simulated time between checkpoints (0 = only when interrupted or at max_wall).
 inline constexpr Key<double> checkpoint_every{"output.checkpoint_every"};
-// Declares run.max_wall and the bounds on frames and stats rows a scene may ask for.
+// Declares run.max_wall, run.max_steps, output.checkpoint_every and the bounds on frames
+// and stats rows a scene may ask for.
 void declare(Schema& s);
 }  // namespace loop_keys
 
