@@ -94,9 +94,15 @@ std::vector<Case> cases(const fs::path& dir) {
   const fs::path xyz = dir / "pair.xyz";
   std::ofstream(xyz) << "2\nLattice=\"0.01 0 0 0 0.01 0 0 0 0.01\" Properties=species:S:1:pos:R:3:radius:R:1\n"
                         "1 0.003 0.005 0.005 5e-4\n1 0.007 0.005 0.005 5e-4\n";
+  // Three disks in the 24 × 24 box, for the ED engine.
+  const fs::path disks = dir / "disks.xyz";
+  std::ofstream(disks) << "3\nProperties=species:S:1:pos:R:3:radius:R:1:velo:R:3:omega:R:1\n"
+                          "1 4 4 0 0.5 0.1 0 0 0\n1 12 12 0 0.5 0 0.1 0 0.2\n1 20 6 0 0.5 -0.1 0 0 0\n";
   return {
       {kEd + kRender, {"system.area_fraction=0.3", "output.particles=true", "render.range=[0.0, 2.0]"}},
       {kEd + kRender, {"system.n=0.2", "output.mp4=false", "system.mu=0.3", "output.stats_every=0.5"}},
+      {kEd + kRender, {"system.initial.kind=\"file\"", "system.initial.file=\"" + disks.string() + "\"",
+                       "system.initial.frame=0", "output.mp4=false", "output.png=false"}},
       {kEd + kRender + "[boundary.obstacle]\nD = 4.0\nx = 12.0\ny = 12.0\n",
        {"system.N=60", "boundary.periodic=[false, true]", "boundary.stream.kind=\"dispenser_filter\"", "system.U=0.5",
         "output.png=false"}},

@@ -503,7 +503,7 @@ TEST(CliRun, DemCouetteTopLayerFollowsTheSlidingWall) {
                        " --set output.mp4=false --set output.particles=true --set render.color_by=vx"
                        " --set 'render.size=[64,32]'");
   ASSERT_EQ(r.status, 0) << r.output;
-  // Last frame of particles.xyz: columns species x y z radius id vx.
+  // Last frame of particles.xyz: columns species x y z radius vx vy vz id ….
   std::ifstream in(out / "particles.xyz");
   std::string line, last_header;
   std::vector<std::array<double, 2>> zvx;  // (z, vx) of the last frame
@@ -514,13 +514,12 @@ TEST(CliRun, DemCouetteTopLayerFollowsTheSlidingWall) {
     zvx.clear();
     for (std::size_t i = 0; i < n && std::getline(in, line); ++i) {
       char species[16];
-      double x, y, z, rad, id, vx;
-      ASSERT_EQ(std::sscanf(line.c_str(), "%15s %lf %lf %lf %lf %lf %lf", species, &x, &y, &z, &rad, &id, &vx), 7)
-          << line;
+      double x, y, z, rad, vx;
+      ASSERT_EQ(std::sscanf(line.c_str(), "%15s %lf %lf %lf %lf %lf", species, &x, &y, &z, &rad, &vx), 6) << line;
       zvx.push_back({z, vx});
     }
   }
-  ASSERT_TRUE(contains(last_header, "vx:R:1")) << last_header;
+  ASSERT_TRUE(contains(last_header, "radius:R:1:velo:R:3")) << last_header;
   EXPECT_TRUE(contains(last_header, "pbc=\"T T F\"")) << last_header;  // periodic along the wall
   ASSERT_EQ(zvx.size(), 300u);
   double top = 0, bottom = 0;
@@ -822,4 +821,45 @@ TEST(CliRun, MaxStepsStopsAtAReproduciblePointAndResumes) {
   ASSERT_EQ(resumed.status, 0) << resumed.output;
   EXPECT_EQ(state_digest(stopped), state_digest(direct));
   EXPECT_EQ(read_file(stopped / "stats.csv"), read_file(direct / "stats.csv"));
+}
+
+TEST(CliRun, EdStartsFromTheParticlesOfAnEarlierRun) {
+  const std::string common = "run " + scenes + "/disks_box.toml --set render.size=[64,64] --set output.mp4=false "
+                             "--set run.until=10 --set output.particles=true ";
+  const fs::path first = fresh_dir("from_file_first"), second = fresh_dir("from_file_second");
+  ASSERT_EQ(run(common + "-o " + first.string()).status, 0);
+  const std::string file = (first / "particles.xyz").string();
+  const Result r = run(common + "--set system.initial.kind=file --set system.initial.file=" + file + " -o " +
+                       second.string());
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_TRUE(contains(r.output, "system.area_fraction is not used")) << r.output;
+  // The second run's first frame is the first run's last one: ids, positions, velocities,
+  // spins and masses at full precision (only the clock starts again at 0).
+  auto frames = [](const fs::path& p) {
+    std::vector<std::string> out;
+    std::ifstream in(p);
+    std::string count, header, line;
+    while (std::getline(in, count) && std::getline(in, header)) {
+      std::string body;
+      for (long k = std::stol(count); k > 0 && std::getline(in, line); --k) body += line + "\n";
+      out.push_back(body);
+    }
+    return out;
+  };
+  const auto a = frames(first / "particles.xyz"), b = frames(second / "particles.xyz");
+  ASSERT_FALSE(a.empty());
+  ASSERT_FALSE(b.empty());
+  EXPECT_EQ(a.back(), b.front());
+  // What the file cannot give is refused with the reason.
+  Result bad = run(common + "--set system.initial.kind=file --set system.initial.file=" + file +
+                   " --set system.initial.frame=99 -o " + fresh_dir("from_file_frame").string());
+  EXPECT_EQ(bad.status, 2) << bad.output;
+  EXPECT_TRUE(contains(bad.output, "holds 6 frame(s)")) << bad.output;
+  bad = run(common + "--set system.initial.kind=file --set system.initial.file=" + file +
+            " --set system.box=[50,50] -o " + fresh_dir("from_file_box").string());
+  EXPECT_EQ(bad.status, 2) << bad.output;
+  EXPECT_TRUE(contains(bad.output, "the file's box")) << bad.output;
+  bad = run(common + "--set system.initial.kind=file -o " + fresh_dir("from_file_none").string());
+  EXPECT_EQ(bad.status, 2) << bad.output;
+  EXPECT_TRUE(contains(bad.output, "needs system.initial.file")) << bad.output;
 }

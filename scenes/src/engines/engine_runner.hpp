@@ -10,6 +10,7 @@
 #include <utility>
 #include <vector>
 
+#include "engine/core/particle_frame.hpp"
 #include "render/snapshot.hpp"
 #include "scenes/src/outputs/run_output.hpp"
 
@@ -32,6 +33,12 @@ public:
   // Particles (synchronised to time()), domain and obstacles, coloured by `colour_by`
   // (render.color_by: one of the engine's colour attributes, checked by validation).
   virtual void snapshot(const std::string& colour_by, render::Snapshot& out) = 0;
+
+  // The exact state of the particles at time() (after snapshot(), which synchronises
+  // them): ids that stay with a particle while it is in the system, type = group + 1,
+  // positions, radii, velocities, and the columns omega (2D; 3D: omegax, omegay, omegaz)
+  // and mass. For particles.xyz, and what system.initial.file reads back.
+  virtual void particles(core::ParticleFrame& out) const = 0;
 
   // stats.csv: column names (after `time`) and one row over the window since the last
   // row; taking a row starts a new window. Throws like check_finite() when the values it

@@ -1,5 +1,7 @@
 // DIR/particles.xyz (output.particles): every frame's particles as extended XYZ with box,
-// periodic axes, radii and the colour attribute, for OVITO and ParaView.
+// periodic axes, ids, groups (type), radii, velocities, spins and masses at full precision
+// (shortest round-trip text), for OVITO and ParaView, and to start a run from
+// (system.initial.file).
 #include <optional>
 
 #include "engine/io/archive.hpp"
@@ -12,26 +14,6 @@ namespace grainflow::scenes {
 namespace {
 
 constexpr Key<bool> particles{"output.particles"};
-
-// Particle file frame from a snapshot, so OVITO/ParaView get positions and radii.
-void to_particle_frame(const render::Snapshot& s, core::ParticleFrame& f) {
-  f.clear();
-  f.dim = s.dim;
-  f.time = s.time;
-  f.has_box = true;
-  f.box_lo = s.lo;
-  f.box_hi = s.hi;
-  f.periodic = s.periodic;
-  for (std::size_t i = 0; i < s.size(); ++i) {
-    const float* p = &s.pos_radius[4 * i];
-    f.id.push_back(std::int64_t(i + 1));
-    f.position.emplace_back(p[0], p[1], p[2]);
-    f.radius.push_back(p[3]);
-    f.type.push_back(1);
-  }
-  if (!s.attribute.empty())
-    f.extra.emplace_back(s.attribute_name, std::vector<double>(s.attribute.begin(), s.attribute.end()));
-}
 
 class ParticlesOutput final : public RunOutput {
 public:
@@ -47,20 +29,17 @@ public:
     const auto size = r.get<std::uint64_t>();
     writer_.emplace(file_.string(), size, r.get<int>());
   }
-  void frame(std::int64_t, const render::Snapshot& s) override {
-    to_particle_frame(s, frame_);
-    writer_->write(frame_);
-  }
+  bool wants_particles() const override { return true; }
+  void particles(std::int64_t, const core::ParticleFrame& f) override { writer_->write(f); }
   void finish(const RunRecord&) override { writer_->close(); }
 
 private:
   std::filesystem::path file_;
   std::optional<io::XyzWriter> writer_;
-  core::ParticleFrame frame_;
 };
 
 void declare(Schema& s) {
-  s.table("output").add_bool(particles, false, "write particle positions and radii of every frame (OVITO-readable)");
+  s.table("output").add_bool(particles, false, "write every frame's particles (ids, positions, radii, velocities, spins) to particles.xyz (OVITO-readable)");
 }
 
 std::unique_ptr<RunOutput> open(const OutputContext& c) {

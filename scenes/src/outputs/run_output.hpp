@@ -12,6 +12,7 @@
 #include <string_view>
 #include <vector>
 
+#include "engine/core/particle_frame.hpp"
 #include "render/snapshot.hpp"
 
 namespace grainflow::io {
@@ -58,6 +59,11 @@ public:
   virtual void resume(io::ArchiveReader& r, const RunRecord& record) = 0;
   // Every frame, in time order: particles and fields as drawn.
   virtual void frame(std::int64_t /*index*/, const render::Snapshot& /*snapshot*/) {}
+  // Outputs of the particles themselves want their exact state every frame (float64
+  // positions and velocities, spins, masses, ids, groups), which the run loop asks the
+  // engine for only when some output wants it (EngineRunner::particles).
+  virtual bool wants_particles() const { return false; }
+  virtual void particles(std::int64_t /*index*/, const core::ParticleFrame& /*frame*/) {}
   // Every stats row, in time order.
   virtual void stats(double /*time*/, std::span<const double> /*row*/) {}
   // Every few seconds of a running run, with its figures so far (run.json refreshes, so

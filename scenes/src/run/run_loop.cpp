@@ -162,9 +162,18 @@ public:
     images_->sync();
     for (auto& o : data_) o->checkpoint(w);
   }
-  void frame(std::int64_t index, const render::Snapshot& s, const render::Image* image) {
+  bool wants_particles() const {
+    for (const auto& o : data_)
+      if (o->wants_particles()) return true;
+    return false;
+  }
+  void frame(std::int64_t index, const render::Snapshot& s, const render::Image* image,
+             const core::ParticleFrame* particles) {
     if (image) images_->consume(*image, index, s.time);
-    for (auto& o : data_) o->frame(index, s);
+    for (auto& o : data_) {
+      o->frame(index, s);
+      if (particles && o->wants_particles()) o->particles(index, *particles);
+    }
   }
   void stats(double time, std::span<const double> row) {
     for (auto& o : data_) o->stats(time, row);
@@ -361,10 +370,14 @@ int run_scene(const Scene& scene, const RunOptions& opt) {
   auto next_checkpoint = [&] { return st.t0 + double(st.checkpoints_due) * checkpoint_every; };
   const auto wall_start = std::chrono::steady_clock::now();
   auto wall = [&] { return st.wall_before + seconds_since(wall_start); };
+  const bool wants_particles = out.wants_particles();
+  core::ParticleFrame particles;
   auto emit_frame = [&] {
     runner->snapshot(drawing.colour_by(), snapshot);
+    if (wants_particles) runner->particles(particles);
     drawing.prepare(snapshot);
-    out.frame(st.frame_index++, snapshot, out.draws() ? &drawing.draw(snapshot) : nullptr);
+    out.frame(st.frame_index++, snapshot, out.draws() ? &drawing.draw(snapshot) : nullptr,
+              wants_particles ? &particles : nullptr);
   };
   std::string checkpoint_buffer;  // kept from one checkpoint to the next
   // Between two slices of the loop: a resumed run continues with the next slice exactly

@@ -326,6 +326,33 @@ public:
     }
   }
 
+  void particles(core::ParticleFrame& f) const override {
+    const auto& b = sim_.config().box;
+    f.clear();
+    f.dim = 3;
+    f.time = sim_.time();
+    f.timestep = std::int64_t(sim_.steps());
+    f.has_box = true;
+    f.box_lo = b.lo;
+    f.box_hi = b.hi;
+    f.periodic = b.periodic;
+    const std::size_t n = sim_.size();
+    std::vector<double> wx(n), wy(n), wz(n), mass(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      f.id.push_back(std::int64_t(i + 1));
+      f.type.push_back(sim_.group(i) + 1);
+      f.position.push_back(sim_.position(i));
+      f.radius.push_back(sim_.radius(i));
+      f.velocity.push_back(sim_.velocity(i));
+      const Vec3 w = sim_.angular_velocity(i);
+      wx[i] = w.x();
+      wy[i] = w.y();
+      wz[i] = w.z();
+      mass[i] = sim_.mass(i);
+    }
+    f.extra = {{"omegax", std::move(wx)}, {"omegay", std::move(wy)}, {"omegaz", std::move(wz)}, {"mass", std::move(mass)}};
+  }
+
   std::vector<std::string> stats_columns() const override {
     return {"step", "N", "kinetic_energy", "rotational_energy", "potential_energy", "contacts", "coordination",
             "wall_force_bottom_z", "neighbour_builds"};

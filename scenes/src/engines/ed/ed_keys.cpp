@@ -52,9 +52,25 @@ void declare(Schema& s) {
   sys.add_float(cell_size, 1.2, "target side of the cells (§2.2: ≈ 1.2 σ at η = 0.65)", "σ")
       .above(1.0)
       .with_note("cells must be larger than a disk diameter");
+  auto& init = s.section("system.initial", "initial state (the melting lattice, or a particle file)");
+  init.add_enum(initial_kind, {"lattice", "file"}, "lattice",
+                "a triangular lattice at area_fraction | n | N that melts, with Maxwell velocities at kT plus U; or "
+                "the disks of system.initial.file");
+  init.add_string(initial_file, "",
+                  "particle file for kind = \"file\" (a run's particles.xyz, extended XYZ or a LAMMPS dump), path "
+                  "relative to the scene file: positions, radii (none: σ/2), velocities (none: Maxwell at kT plus U), "
+                  "and the columns omega and mass when present; the disks must lie inside system.box without overlap")
+      .path();
+  init.add_int(initial_frame, -1, "which frame of the file: 0 the first, −1 the last (a run's final state)")
+      .at_least(-1);
   s.add_check([](const Scene& sc, SceneCheck& c) {
     const int given = int(sc.has(area_fraction)) + int(sc.has(n)) + int(sc.has(N));
-    if (given != 1)
+    const bool from_file = sc.get(initial_kind) == "file";
+    if (from_file && sc.get(initial_file).empty())
+      c.fail(initial_file.path, "system.initial.kind = \"file\" needs system.initial.file = \"path\"");
+    // With a file the density keys are not used (the runner says so when one is given, so
+    // that `--set system.initial.kind=file` works on a scene written for the lattice).
+    if (given > 1 || (!from_file && given != 1))
       c.fail(area_fraction.path, "give exactly one of system.area_fraction, system.n or system.N (" +
                                          std::to_string(given) + " given)");
     if (sc.has(n) && sc.get(n) * std::numbers::pi / 4.0 >= kMaxAreaFraction)

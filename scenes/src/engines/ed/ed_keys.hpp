@@ -25,6 +25,11 @@ inline constexpr Key<double> e_t{"system.e_t"};
 inline constexpr Key<double> mu{"system.mu"};
 inline constexpr Key<std::string> calendar{"system.calendar"};
 inline constexpr Key<double> cell_size{"system.cell_size"};
+// The initial state: the melting lattice (at area_fraction | n | N, Maxwell velocities at
+// kT plus U), or the disks of a particle file (a run's particles.xyz, an XYZ or LAMMPS dump).
+inline constexpr Key<std::string> initial_kind{"system.initial.kind"};
+inline constexpr Key<std::string> initial_file{"system.initial.file"};
+inline constexpr Key<std::int64_t> initial_frame{"system.initial.frame"};
 
 inline constexpr Key<std::array<bool, 2>> periodic{"boundary.periodic"};
 

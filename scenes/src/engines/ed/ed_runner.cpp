@@ -2,6 +2,8 @@
 // → ed::Config, frames of disks coloured by the attributes of kDiskAttributes, stats rows
 // from the engine's measurement window (seed 003 §4.1), and the engine's table row.
 #include <cmath>
+#include <filesystem>
+#include <memory>
 #include <stdexcept>
 #include <string>
 
@@ -11,7 +13,9 @@
 #include "engine/core/state_digest.hpp"
 #include "engine/ed/field_sampler.hpp"
 #include "engine/ed/simulation.hpp"
+#include "engine/core/rng.hpp"
 #include "engine/io/archive.hpp"
+#include "engine/io/particle_reader.hpp"
 #include "scenes/src/engines/ed/ed_agents.hpp"
 #include "scenes/src/engines/ed/ed_keys.hpp"
 #include "scenes/src/engines/colour_attributes.hpp"
@@ -37,9 +41,9 @@ ed::Config ed_config(const Scene& sc) {
     c.n = 0;
   } else if (auto n = sc.find(keys::n)) {
     c.n = int(std::lround(*n * c.lx * c.ly));
-  } else {
+  } else if (sc.has(keys::N)) {
     c.n = int(sc.get(keys::N));
-  }
+  }  // else: the disks come from system.initial.file
   c.kT = sc.get(keys::kT);
   c.stream = {sc.get(keys::U), 0.0};
   c.seed = std::uint64_t(sc.get(run_keys::seed));
@@ -55,6 +59,73 @@ ed::Config ed_config(const Scene& sc) {
   // Open stream boundaries close the x axis themselves (seed 003 §3.2–3.3): no x walls.
   c.open_x = sc.get(keys::stream_kind) != "periodic";
   return c;
+}
+
+// system.initial.kind = "file": the disks of one frame of system.initial.file (a run's
+// particles.xyz, an XYZ or LAMMPS dump), so that e.g. cooling starts from an equilibrated
+// fluid rather than from the lattice (seed 003 ch. 5). Velocities missing from the file are
+// drawn at system.kT plus U from the run's own stream.
+std::vector<ed::DiskInit> disks_from_file(const Scene& sc, const ed::Config& c) {
+  const std::string name = sc.get(keys::initial_file);
+  std::filesystem::path path(name);
+  if (path.is_relative() && !sc.source().empty()) path = sc.source().parent_path() / path;
+  const std::string what = "system.initial.file = \"" + name + "\"";
+  auto reader = io::open_particle_file(path.string());
+  const std::int64_t wanted = sc.get(keys::initial_frame);
+  core::ParticleFrame f, next;
+  std::int64_t frames = 0;
+  if (!reader->next(f)) throw Error(what + ": " + path.string() + " holds no particle frame");
+  ++frames;
+  // The last frame: read on while there is one (each frame is bounded by the reader).
+  for (; wanted < 0 || frames <= wanted; ++frames) {
+    if (!reader->next(next)) break;
+    std::swap(f, next);
+  }
+  if (wanted >= 0 && frames <= wanted)
+    throw Error(fmt::format("{}: system.initial.frame = {}, but the file holds {} frame(s); allowed: 0..{} or −1 "
+                            "(the last)", what, wanted, frames, frames - 1));
+  if (f.has_box) {
+    const double fx = f.box_hi[0] - f.box_lo[0], fy = f.box_hi[1] - f.box_lo[1];
+    if (std::abs(fx - c.lx) > 1e-9 * c.lx || std::abs(fy - c.ly) > 1e-9 * c.ly || f.box_lo[0] != 0 || f.box_lo[1] != 0)
+      throw Error(fmt::format("{}: the file's box is [{}, {}] × [{}, {}], the scene's system.box = [{}, {}] from 0; "
+                              "allowed: the same box", what, f.box_lo[0], f.box_hi[0], f.box_lo[1], f.box_hi[1], c.lx, c.ly));
+  }
+  const std::vector<double>* omega = f.column("omega");
+  if (!omega) omega = f.column("omegaz");
+  const std::vector<double>* mass = f.column("mass");
+  core::Rng rng(core::substream_seed(c.seed, 3));
+  const double sd = std::sqrt(c.kT);
+  std::vector<ed::DiskInit> disks(f.size());
+  for (std::size_t i = 0; i < f.size(); ++i) {
+    ed::DiskInit& d = disks[i];
+    d.r = Vec2(f.position[i].x(), f.position[i].y());
+    d.radius = f.radius[i];
+    if (mass) d.mass = (*mass)[i];
+    if (f.has_velocity()) {
+      d.v = Vec2(f.velocity[i].x(), f.velocity[i].y());
+    } else {
+      const double s = sd / std::sqrt(d.mass);
+      d.v = Vec2(rng.normal(0.0, s), rng.normal(0.0, s)) + c.stream;
+    }
+    if (omega) d.omega = (*omega)[i];
+  }
+  return disks;
+}
+
+std::unique_ptr<ed::Simulation> make_simulation(const Scene& sc) {
+  ed::Config c = ed_config(sc);
+  if (sc.get(keys::initial_kind) != "file") return std::make_unique<ed::Simulation>(c);
+  std::vector<ed::DiskInit> disks = disks_from_file(sc, c);
+  for (const auto* key : {&keys::area_fraction.path, &keys::n.path, &keys::N.path})
+    if (sc.has(*key))
+      std::fprintf(stderr, "grainflow: note: %.*s is not used: the disks come from system.initial.file (%zu disks)\n",
+                   int(key->size()), key->data(), disks.size());
+  c.n = int(disks.size());  // what the stream boundaries take as the density they feed
+  try {
+    return std::make_unique<ed::Simulation>(c, std::move(disks));
+  } catch (const Error& e) {
+    throw Error("system.initial.file = \"" + sc.get(keys::initial_file) + "\": " + e.what());
+  }
 }
 
 // What render.color_by may colour a disk by: the one list the schema offers and the
@@ -77,7 +148,7 @@ const DiskAttribute& disk_attribute(std::string_view name) { return find_attribu
 
 class EdRunner final : public EngineRunner {
 public:
-  explicit EdRunner(const Scene& sc) : sim_(ed_config(sc)) {
+  explicit EdRunner(const Scene& sc) : sim_ptr_(make_simulation(sc)), sim_(*sim_ptr_) {
     ed::SamplerConfig sc_cfg;
     const auto bins = sc.get(sample_keys::bins);
     sc_cfg.grid.nx = bins[0];
@@ -135,6 +206,33 @@ public:
       mask_solid_bins(s);
     }
     if (cfg.stream.x() != 0 || cfg.stream.y() != 0) s.reference_velocity = Eigen::Vector2d(cfg.stream.x(), cfg.stream.y());
+  }
+
+  void particles(core::ParticleFrame& f) const override {
+    const auto& cfg = sim_.config();
+    f.clear();
+    f.dim = 2;
+    f.time = sim_.time();
+    f.has_box = true;
+    f.box_lo = {0, 0, 0};
+    f.box_hi = {cfg.lx, cfg.ly, 0};
+    f.periodic = {cfg.periodic_x, cfg.periodic_y, false};
+    std::vector<double> omega, mass;
+    const auto& disks = sim_.disks();
+    for (int i = 0; i < sim_.size(); ++i) {
+      if (!sim_.present(i)) continue;
+      const ed::Disk& d = disks[i];
+      // The slot: a disk keeps it while it is in the box (an open stream reuses it later).
+      f.id.push_back(i + 1);
+      f.type.push_back(1);
+      f.position.emplace_back(d.x, d.y, 0.0);
+      f.radius.push_back(d.r);
+      f.velocity.emplace_back(d.vx, d.vy, 0.0);
+      omega.push_back(d.w);
+      mass.push_back(d.m);
+    }
+    f.extra.emplace_back("omega", std::move(omega));
+    f.extra.emplace_back("mass", std::move(mass));
   }
 
   // The engine's window, then each attached agent's columns (the obstacle's drag), then the
@@ -235,7 +333,8 @@ private:
     if (s.velocity) mask(*s.velocity);
   }
 
-  ed::Simulation sim_;
+  std::unique_ptr<ed::Simulation> sim_ptr_;
+  ed::Simulation& sim_;
   ed::FieldSampler* sampler_ = nullptr;     // owned by sim_
   std::vector<std::unique_ptr<EdAgentRun>> agents_;  // the table's agents the scene switched on
 };
