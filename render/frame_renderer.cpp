@@ -195,4 +195,9 @@ void FrameRenderer::draw_geometry(const Snapshot& s, const FrameStyle& style, co
   }
 }
 
+const std::vector<std::optional<std::pair<double, double>>>& FrameRenderer::last_panel_ranges() const {
+  static const std::vector<std::optional<std::pair<double, double>>> none;
+  return panels_ ? panels_->last_ranges() : none;
+}
+
 }  // namespace grainflow::render

@@ -43,6 +43,9 @@ public:
   // grainflow::Error when it is missing).
   const Image& render(const Snapshot& snapshot, const FrameStyle& style, const FrameLayout& layout);
   const Image& image() const { return image_; }
+  // After a panel render: each panel's map range (PanelRenderer::last_ranges()); empty
+  // before the first.
+  const std::vector<std::optional<std::pair<double, double>>>& last_panel_ranges() const;
   // The particle layer, to choose its disk method or sphere culling (tests, benchmarks).
   ParticleLayer& particle_layer() { return particles_; }
   int width() const { return fb_.width(); }

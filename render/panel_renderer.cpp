@@ -7,6 +7,25 @@
 
 namespace grainflow::render {
 
+namespace {
+
+// Whether valid values lie below or above the range (drawn as triangles on the bar): a
+// fixed or run-wide range clips what a frame's own range would have shown.
+template <class Values>
+void mark_clipped(const Values& values, const std::vector<std::uint8_t>& mask, std::pair<double, double> range,
+                  auto& bar) {
+  for (std::size_t k = 0; k < values.size(); ++k) {
+    if (!mask.empty() && !mask[k]) continue;
+    const double v = values[k];
+    if (!std::isfinite(v)) continue;
+    if (v < range.first) bar.below = true;
+    if (v > range.second) bar.above = true;
+  }
+}
+
+}  // namespace
+
+
 std::string caption_text(const Snapshot& s) {
   if (!s.caption.empty()) return s.caption;
   std::string out;
@@ -66,6 +85,7 @@ void PanelRenderer::draw(FrameRenderer& frame, const Snapshot& s, const FrameSty
   for (const auto& c : s.obstacles) solids_.push_back({c.centre, c.radius});
   overlay_.clear();
   bars_.clear();
+  ranges_.assign(layout.panels.size(), std::nullopt);
   streamline_count_ = 0;
 
   // Planar panels show the sampling plane. Its rectangle is the field grid's, which for a
@@ -108,9 +128,11 @@ void PanelRenderer::draw(FrameRenderer& frame, const Snapshot& s, const FrameSty
       case PanelKind::particles: {
         frame.draw_particles(s, style, view, plot.w, plot.h);
         frame.draw_geometry(s, style, view, plot.w, plot.h);
-        if (!s.attribute.empty() && !s.attribute_categorical)
-          bar = PendingBar{{}, style.range ? *style.range : finite_range(s.attribute), style.colormap,
-                           s.attribute_name, g.tick_px};
+        if (!s.attribute.empty() && !s.attribute_categorical) {
+          const auto range = style.range ? *style.range : finite_range(s.attribute);
+          bar = PendingBar{{}, range, style.colormap, s.attribute_name, g.tick_px};
+          mark_clipped(s.attribute, {}, range, *bar);
+        }
         break;
       }
       case PanelKind::field: {
@@ -131,6 +153,8 @@ void PanelRenderer::draw(FrameRenderer& frame, const Snapshot& s, const FrameSty
         fields_.draw(view, *f, range, cmap, spec.filter);
         frame.draw_geometry(*planar_geometry, style, view, plot.w, plot.h, true);
         bar = PendingBar{{}, range, cmap, label, g.tick_px};
+        mark_clipped(f->values, f->mask, range, *bar);
+        ranges_[i] = range;
         break;
       }
       case PanelKind::streamlines:
@@ -145,6 +169,7 @@ void PanelRenderer::draw(FrameRenderer& frame, const Snapshot& s, const FrameSty
         if (spec.kind == PanelKind::streamlines) {
           const auto& speed = speed_field(*s.velocity, relative ? reference : Vec2(0.0, 0.0));
           range = resolve_range(speed, spec.range);
+          ranges_[i] = range;
           fields_.draw(view, speed, range, cmap, spec.filter);
           streamlines_.draw(view, plot.w, plot.h, *s.velocity, solids_, spec.streamlines, reference);
         } else {
@@ -155,6 +180,7 @@ void PanelRenderer::draw(FrameRenderer& frame, const Snapshot& s, const FrameSty
         streamline_count_ += streamlines_.last_line_count();
         frame.draw_geometry(*planar_geometry, style, view, plot.w, plot.h, true);
         bar = PendingBar{{}, range, cmap, speed_label, g.tick_px};
+        if (spec.kind == PanelKind::streamlines) mark_clipped(speed_.values, speed_.mask, range, *bar);
         break;
       }
     }
@@ -185,7 +211,8 @@ void PanelRenderer::draw(FrameRenderer& frame, const Snapshot& s, const FrameSty
   for (const auto& b : bars_) {
     bar_style.font_px = b.font_px;
     bar_style.tick_px = std::max(3, b.font_px / 3);
-    draw_colour_bar(fields_, pixel, b.rect, b.range, b.colormap, b.label, bar_style, overlay_, text_);
+    draw_colour_bar(fields_, pixel, b.rect, b.range, b.colormap, b.label, bar_style, overlay_, text_,
+                    {b.below, b.above});
   }
   if (!caption.empty())
     text_.add(caption, float(geo.caption_px), float(geo.caption.y + 0.5 * geo.caption.h), geo.caption_px, ink,

@@ -3,6 +3,9 @@
 // obstacles and walls on top; then, over the whole frame, colour bars, titles and the
 // caption — all text in one instanced batch, all overlay lines in one segment batch.
 #pragma once
+#include <optional>
+#include <utility>
+#include <vector>
 #include <string>
 #include <utility>
 #include <vector>
@@ -28,6 +31,9 @@ public:
 
   TextRenderer& text() { return text_; }
   std::size_t last_streamline_count() const { return streamline_count_; }
+  // Per panel of the last draw: the colour range of its map (field and streamline panels
+  // that had their field), so a caller can keep it for the frames that follow.
+  const std::vector<std::optional<std::pair<double, double>>>& last_ranges() const { return ranges_; }
 
 private:
   struct PendingBar {
@@ -36,6 +42,7 @@ private:
     Colormap colormap;
     std::string label;
     int font_px;
+    bool below = false, above = false;  // values were clipped at lo / hi
   };
 
   // |v − reference| on the velocity grid; invalid where v is masked or not finite.
@@ -49,6 +56,7 @@ private:
   std::vector<SolidCircle> solids_;
   std::vector<Segment> overlay_;
   std::vector<PendingBar> bars_;
+  std::vector<std::optional<std::pair<double, double>>> ranges_;
   std::size_t streamline_count_ = 0;
 };
 

@@ -42,7 +42,8 @@ std::string format_tick(double value, double step) {
 
 void draw_colour_bar(FieldMapLayer& fields, const ViewTransform& pixel, const PixelRect& bar,
                      std::pair<double, double> range, const Colormap& colormap, const std::string& label,
-                     const ColourBarStyle& style, std::vector<Segment>& overlay, TextRenderer& text) {
+                     const ColourBarStyle& style, std::vector<Segment>& overlay, TextRenderer& text,
+                     Clipped clipped) {
   if (bar.w < 2 || bar.h < 4) return;
   const double x0 = bar.x, x1 = bar.right(), y_top = bar.y, y_bottom = bar.bottom();
   fields.draw_gradient(pixel, {x0, y_bottom}, {x1, y_top}, colormap);
@@ -51,6 +52,21 @@ void draw_colour_bar(FieldMapLayer& fields, const ViewTransform& pixel, const Pi
                                             {float(x1), float(y_bottom), 0.f},
                                             {float(x0), float(y_bottom), 0.f}};
   add_polyline(overlay, box, style.ink, 1.0f, 1.0f, true);
+  // Clip triangles, as wide as the strip, pointing away from it; filled with the end
+  // colour (lines from the apex to the base), outlined in ink.
+  const double tri = std::max(4.0, 0.8 * (x1 - x0));
+  auto triangle = [&](double base_y, double apex_y, double t) {
+    const Rgb fill = colormap.rgb(t);
+    const double xm = 0.5 * (x0 + x1);
+    for (double x = x0 + 0.5; x < x1; x += 1.0)
+      overlay.push_back({{float(x), float(base_y), 0.f}, {float(xm), float(apex_y), 0.f},
+                         {fill.r, fill.g, fill.b, 1.0f}, 1.0f});
+    add_polyline(overlay, {{float(x0), float(base_y), 0.f}, {float(xm), float(apex_y), 0.f},
+                           {float(x1), float(base_y), 0.f}},
+                 style.ink, 1.0f, 1.0f, false);
+  };
+  if (clipped.above) triangle(y_top - 1.0, y_top - 1.0 - tri, 1.0);
+  if (clipped.below) triangle(y_bottom + 1.0, y_bottom + 1.0 + tri, 0.0);
 
   const auto [lo, hi] = range;
   const int target = std::clamp(int(bar.h / (2.2 * style.font_px)), 2, 8);

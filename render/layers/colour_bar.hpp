@@ -30,11 +30,18 @@ struct ColourBarStyle {
   int tick_px = 4;  // tick length
 };
 
+// Values the range cut off: a triangle below (above) the strip says that some lie below
+// lo (above hi) and are drawn in the end colour.
+struct Clipped {
+  bool below = false, above = false;
+};
+
 // Draws the strip into `bar` now (the current viewport must be the whole width × height
-// frame, `pixel` = pixel_view(width, height)) and queues the outline and ticks into
-// `overlay` (frame-pixel segments) and the labels into `text`.
+// frame, `pixel` = pixel_view(width, height)) and queues the outline, ticks and clip
+// triangles into `overlay` (frame-pixel segments) and the labels into `text`.
 void draw_colour_bar(FieldMapLayer& fields, const ViewTransform& pixel, const PixelRect& bar,
                      std::pair<double, double> range, const Colormap& colormap, const std::string& label,
-                     const ColourBarStyle& style, std::vector<Segment>& overlay, TextRenderer& text);
+                     const ColourBarStyle& style, std::vector<Segment>& overlay, TextRenderer& text,
+                     Clipped clipped = {});
 
 }  // namespace grainflow::render

@@ -863,3 +863,30 @@ TEST(CliRun, EdStartsFromTheParticlesOfAnEarlierRun) {
   EXPECT_EQ(bad.status, 2) << bad.output;
   EXPECT_TRUE(contains(bad.output, "needs system.initial.file")) << bad.output;
 }
+
+TEST(CliRun, MapColourBarsStayFixedForTheWholeRunByDefault) {
+  // One density panel: a strip right of the map holds only its colour bar and ticks.
+  // With the default range_mode = "run" they are the same in every frame after the first
+  // exposure; with "frame" they follow each frame's percentiles.
+  auto bar_strip = [](const fs::path& png) {
+    const grainflow::render::Image im = grainflow::render::read_png(png);
+    std::string strip;
+    for (int y = im.height / 5; y < 17 * im.height / 20; ++y)
+      for (int x = 13 * im.width / 20; x < 17 * im.width / 20; ++x)
+        strip.append(reinterpret_cast<const char*>(im.pixel(x, y)), 4);
+    return strip;
+  };
+  const std::string common = "run " + scenes + "/disks_box.toml --set render.size=[320,200] --set output.mp4=false "
+                             "--set run.until=12 --set 'render.panels=[\"density\"]' ";
+  const fs::path stable = fresh_dir("ranges_run"), moving = fresh_dir("ranges_frame");
+  ASSERT_EQ(run(common + "-o " + stable.string()).status, 0);
+  ASSERT_EQ(run(common + "--set render.range_mode=frame -o " + moving.string()).status, 0);
+  const std::string first = "frames/frame_000001.png", last = "frames/frame_000006.png";
+  EXPECT_TRUE(bar_strip(stable / first) == bar_strip(stable / last));
+  EXPECT_FALSE(bar_strip(moving / first) == bar_strip(moving / last));
+  EXPECT_FALSE(bar_strip(stable / first) == std::string(bar_strip(stable / first).size(), '\xff'));  // not blank
+  // A fixed range must belong to a panel that is drawn.
+  const Result bad = run(common + "--set render.ranges.temperature=[0.01,0.03] -o " + fresh_dir("ranges_bad").string());
+  EXPECT_EQ(bad.status, 2) << bad.output;
+  EXPECT_TRUE(contains(bad.output, "render.panels has no temperature panel")) << bad.output;
+}

@@ -1,11 +1,13 @@
 // The [render] keys (render_keys.hpp): what each frame shows and how it is drawn.
 #include "scenes/src/run/render_keys.hpp"
 
+#include <algorithm>
 #include <cctype>
 #include <cstdint>
 
 #include "render/layers/colormap.hpp"
 #include "render/panel_layout.hpp"
+#include "engine/core/error.hpp"
 #include "scenes/src/scene/scene.hpp"
 #include "scenes/src/scene/toml_text.hpp"
 
@@ -22,6 +24,27 @@ bool is_hex_colour(const std::string& s) {
 }
 
 }  // namespace
+
+std::vector<std::string_view> ranged_panels() {
+  std::vector<std::string_view> out;
+  for (std::string_view name : render::panel_names()) {
+    const auto kind = render::panel_from_name(name).kind;
+    if (kind == render::PanelKind::field || kind == render::PanelKind::streamlines) out.push_back(name);
+  }
+  return out;
+}
+
+Key<std::array<double, 2>> panel_range(std::string_view panel) {
+  // Key paths are views: their text lives here for the life of the program.
+  static const std::vector<std::string> paths = [] {
+    std::vector<std::string> p;
+    for (std::string_view name : ranged_panels()) p.push_back("render.ranges." + std::string(name));
+    return p;
+  }();
+  for (const auto& p : paths)
+    if (std::string_view(p).substr(std::string_view("render.ranges.").size()) == panel) return {p};
+  throw Error("render.ranges: no map panel named '" + std::string(panel) + "'");
+}
 
 void declare(Schema& s, std::vector<std::string> colour_attributes) {
   auto& table = s.section("render", "what each frame shows and how it is drawn");
@@ -42,6 +65,15 @@ void declare(Schema& s, std::vector<std::string> colour_attributes) {
                          "colour range of render.color_by (same unit as the attribute); when absent it is "
                          "taken from the first frame and kept for the whole run")
       .optional();
+  table.add_enum(range_mode, {"run", "frame"}, "run",
+                 "colour ranges of the maps: \"run\" fixes each from the first frame that draws it and keeps it "
+                 "(frames and runs compare; values beyond it are clipped, marked by triangles on the bar), "
+                 "\"frame\" takes each frame's own 2nd–98th percentiles");
+  auto& fixed = s.optional_table("render.ranges", "fixed colour ranges [lo, hi] of map panels, by panel name");
+  for (std::string_view name : ranged_panels())
+    fixed.add_float_array(panel_range(name), {0.0, 1.0}, {"lo", "hi"},
+                          "fixed colour range of the " + std::string(name) + " panel (its field's unit)")
+        .optional();
   table.add_enum(backend, {"auto", "egl", "osmesa"}, "auto",
                   "off-screen GL: EGL (surfaceless/device), OSMesa, or auto = EGL then OSMesa");
   table.add_int(msaa, 4, "multisample anti-aliasing samples per pixel (0 = off)").at_least(0).at_most(16);
@@ -57,6 +89,16 @@ void declare(Schema& s, std::vector<std::string> colour_attributes) {
     if (auto r = sc.find(range); r && !((*r)[0] < (*r)[1]))
       c.fail(range.path, "render.range = [" + toml_float((*r)[0]) + ", " + toml_float((*r)[1]) +
                                  "] is empty; allowed: [lo, hi] with lo < hi");
+    for (std::string_view name : ranged_panels()) {
+      const auto r = sc.find(panel_range(name));
+      if (!r) continue;
+      if (!((*r)[0] < (*r)[1]))
+        c.fail(panel_range(name).path, "render.ranges." + std::string(name) + " = [" + toml_float((*r)[0]) + ", " +
+                                           toml_float((*r)[1]) + "] is empty; allowed: [lo, hi] with lo < hi");
+      if (std::find(names.begin(), names.end(), name) == names.end())
+        c.fail(panel_range(name).path, "render.ranges." + std::string(name) + " is given but render.panels has no " +
+                                           std::string(name) + " panel; allowed: ranges of the panels drawn");
+    }
     const int samples = sc.get(msaa);
     if (samples != 0 && (samples & (samples - 1)) != 0)
       c.fail(msaa.path, "render.msaa = " + std::to_string(samples) + " is not allowed; allowed: 0, 1, 2, 4, 8, 16");

@@ -20,6 +20,16 @@ inline constexpr Key<std::array<double, 2>> range{"render.range"};
 inline constexpr Key<std::string> backend{"render.backend"};
 inline constexpr Key<int> msaa{"render.msaa"};
 inline constexpr Key<std::string> background{"render.background"};
+// How the maps' colour ranges are chosen: "run" (default) fixes each panel's range from the
+// first frame that draws it and keeps it for the whole video; "frame": each frame's own
+// 2nd–98th percentiles (the bars then change from frame to frame).
+inline constexpr Key<std::string> range_mode{"render.range_mode"};
+inline constexpr TableKey ranges{"render.ranges"};
+// render.ranges.<panel> = [lo, hi]: a fixed range for the panel of that name (the map
+// panels of the panel table: density, temperature, speed, streamlines, …).
+Key<std::array<double, 2>> panel_range(std::string_view panel);
+// The panels render.ranges may name.
+std::vector<std::string_view> ranged_panels();
 
 // Declares [render]; `colour_attributes` are the values render.color_by may take.
 void declare(Schema& s, std::vector<std::string> colour_attributes);

@@ -1,5 +1,6 @@
 #include "scenes/src/run/run_loop.hpp"
 
+#include <algorithm>
 #include <array>
 #include <chrono>
 #include <cmath>
@@ -78,7 +79,15 @@ public:
         colour_by_(scene.get(render_keys::color_by)),
         fixed_range_(scene.find(render_keys::range)),
         title_(scene.get(run_keys::title)),
-        exposure_(scene.get(sample_keys::exposure)) {
+        exposure_(scene.get(sample_keys::exposure)),
+        run_ranges_(scene.get(render_keys::range_mode) == "run") {
+    // render.ranges.<panel>: fixed from the start (validation refused ranges of panels
+    // that are not drawn).
+    const auto names = scene.get(render_keys::panels);
+    for (std::string_view ranged : render_keys::ranged_panels())
+      if (auto r = scene.find(render_keys::panel_range(ranged)))
+        for (std::size_t i = 0; i < layout_.panels.size() && i < names.size(); ++i)
+          if (names[i] == ranged) layout_.panels[i].range = render::FieldRange::fixed((*r)[0], (*r)[1]);
     std::string notice;
     ctx_ = render::create_context(render::parse_backend(scene.get(render_keys::backend)), &notice);
     if (!notice.empty()) std::fprintf(stderr, "grainflow: %s\n", notice.c_str());
@@ -100,22 +109,44 @@ public:
     }
     s.caption = caption(title_, exposure_, s);
   }
-  const render::Image& draw(const render::Snapshot& s) { return renderer_->render(s, style_, layout_); }
+  const render::Image& draw(const render::Snapshot& s) {
+    const render::Image& image = renderer_->render(s, style_, layout_);
+    // "run": a panel's first drawn range is kept for every frame after it.
+    if (run_ranges_) {
+      const auto& used = renderer_->last_panel_ranges();
+      for (std::size_t i = 0; i < used.size() && i < layout_.panels.size(); ++i)
+        if (used[i] && layout_.panels[i].range.mode != render::FieldRange::Mode::fixed)
+          layout_.panels[i].range = render::FieldRange::fixed(used[i]->first, used[i]->second);
+    }
+    return image;
+  }
   // The colour range the first frame fixed: a resumed run draws with it too.
   void save(io::ArchiveWriter& w) const {
     w.tag("drawing");
-    w.pod(range_fixed_);
-    w.pod(style_.range.has_value());
+    w.flag(range_fixed_);
+    w.flag(style_.range.has_value());
     const auto range = style_.range.value_or(std::make_pair(0.0, 0.0));
     w.pod(range.first);
     w.pod(range.second);
+    w.pod(std::uint64_t(layout_.panels.size()));
+    for (const auto& p : layout_.panels) {
+      w.flag(p.range.mode == render::FieldRange::Mode::fixed);
+      w.pod(p.range.lo);
+      w.pod(p.range.hi);
+    }
   }
   void load(io::ArchiveReader& r) {
     r.tag("drawing");
-    r.pod(range_fixed_);
-    const bool has_range = r.get<bool>();
+    range_fixed_ = r.flag("the colour range flag");
+    const bool has_range = r.flag("the colour range flag");
     const double lo = r.get<double>(), hi = r.get<double>();
     if (has_range) style_.range = std::make_pair(lo, hi);
+    if (r.get<std::uint64_t>() != layout_.panels.size()) r.mismatch("another panel layout");
+    for (auto& p : layout_.panels) {
+      const bool fixed = r.flag("a panel's range flag");
+      const double plo = r.get<double>(), phi = r.get<double>();
+      if (fixed) p.range = render::FieldRange::fixed(plo, phi);
+    }
   }
 
 private:
@@ -128,6 +159,7 @@ private:
   std::optional<render::FrameRenderer> renderer_;
   render::FrameStyle style_;
   bool range_fixed_ = false;
+  bool run_ranges_;  // render.range_mode = "run"
 };
 
 // The outputs of one run: the output table's (image sinks encode on threads of their
