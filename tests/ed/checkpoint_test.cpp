@@ -2,7 +2,8 @@
 // restored into a simulation constructed the same way must continue bit for bit — every
 // disk, slot, counter, stat, the kinetic energy and the field sampler's frames equal to an
 // uninterrupted run's at T2 — in an equilibrium box (both calendars), the dense open stream
-// (dispenser piston + recharge + filter, obstacle, sampler), the low-density stream
+// (dispenser piston + recharge + filter, obstacle, sampler), the thermostat (each kind, in
+// the box and in the dense stream, saved mid-sample interval), the low-density stream
 // (inlet/outlet), with disks churning in and out (slot arrays growing after T1), and with
 // changes made from outside just before the save. Archives that do not fit are refused
 // with a message naming why and leave the simulation as it was; saving is deterministic.
@@ -14,6 +15,7 @@
 #include <memory>
 #include <numbers>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -26,6 +28,7 @@
 #include "engine/ed/field_sampler.hpp"
 #include "engine/ed/low_density_stream.hpp"
 #include "engine/ed/simulation.hpp"
+#include "engine/ed/thermostat.hpp"
 #include "tests/ed/churn.hpp"
 #include "engine/io/archive.hpp"
 
@@ -46,6 +49,7 @@ struct Handles {
   ed::CircularObstacle* obstacle = nullptr;
   ed::DenseStream dense;
   ed::LowDensityStream low;
+  ed::Thermostat* thermostat = nullptr;
 };
 using Builder = std::function<std::unique_ptr<ed::Simulation>(Handles&)>;
 
@@ -322,6 +326,90 @@ void check_dense(ed::CalendarKind cal) {
 
 TEST(EdCheckpoint, DenseStreamWithObstacleBucketCalendar) { check_dense(ed::CalendarKind::bucket); }
 TEST(EdCheckpoint, DenseStreamWithObstacleCellHeapCalendar) { check_dense(ed::CalendarKind::cell_heap); }
+
+namespace {
+
+// ---- 2b. the thermostat (seed 003 ch. 6): its random stream, next event, sample clock and
+// averaged bins, in the box and in the dense stream (N changing, frozen disks to skip).
+ed::ThermostatConfig thermostat_config(ed::ThermostatKind kind, double lx, double ly, std::uint64_t seed) {
+  ed::ThermostatConfig t;
+  t.kind = kind;
+  t.kT = 0.03;
+  t.tau = 2.0;
+  t.tau_v = 4.0;
+  t.sample_interval = 0.1;
+  t.grid.nx = 6;
+  t.grid.ny = 3;
+  t.grid.lo = {0.0, 0.0};
+  t.grid.hi = {lx, ly};
+  t.seed = seed;
+  return t;
+}
+
+Builder thermostat_builder(ed::ThermostatKind kind, bool dense) {
+  return [kind, dense](Handles& h) {
+    std::unique_ptr<ed::Simulation> sim =
+        dense ? dense_builder(ed::CalendarKind::bucket)(h) : box_builder(ed::CalendarKind::bucket)(h);
+    const ed::Config& c = sim->config();
+    h.thermostat = &sim->emplace_timer<ed::Thermostat>(
+        thermostat_config(kind, c.lx, c.ly, grainflow::core::substream_seed(c.seed, 3)), sim->state());
+    return sim;
+  };
+}
+
+void check_thermostat(ed::ThermostatKind kind, bool dense) {
+  // Samples every 0.1 from 0: t1 = 23.33 / 83.73 lies between two.
+  const double t1 = dense ? 83.73 : 23.33, t2 = dense ? 150.0 : 41.0;
+  Restart r = restart(thermostat_builder(kind, dense), t1, t2, 7.0);
+  Handles h1;
+  auto at_t1 = thermostat_builder(kind, dense)(h1);
+  at_t1->run_until(t1);
+  EXPECT_GT(h1.thermostat->events(), 1000u);
+  EXPECT_GT(r.ha.thermostat->events(), h1.thermostat->events() + 1000u);
+  if (kind == ed::ThermostatKind::single) {
+    EXPECT_GT(h1.thermostat->samples(), 200u);
+  }
+  expect_restart_is_exact(r);
+  EXPECT_EQ(r.ha.thermostat->events(), r.hc.thermostat->events());
+  EXPECT_EQ(r.ha.thermostat->samples(), r.hc.thermostat->samples());
+  EXPECT_EQ(r.ha.thermostat->unpaired(), r.hc.thermostat->unpaired());
+  EXPECT_EQ(bits(r.ha.thermostat->energy()), bits(r.hc.thermostat->energy()));
+}
+
+}  // namespace
+
+TEST(EdCheckpoint, ThermostatSingleInTheBox) { check_thermostat(ed::ThermostatKind::single, false); }
+TEST(EdCheckpoint, ThermostatDualInTheBox) { check_thermostat(ed::ThermostatKind::dual, false); }
+TEST(EdCheckpoint, ThermostatGlobalInTheBox) { check_thermostat(ed::ThermostatKind::global, false); }
+TEST(EdCheckpoint, ThermostatSingleInTheDenseStream) { check_thermostat(ed::ThermostatKind::single, true); }
+TEST(EdCheckpoint, ThermostatDualInTheDenseStream) { check_thermostat(ed::ThermostatKind::dual, true); }
+
+TEST(EdCheckpoint, RefusesAThermostatOfAnotherKindOrGrid) {
+  Handles h;
+  auto src = thermostat_builder(ed::ThermostatKind::single, false)(h);
+  src->run_until(2.0);
+  const std::string bytes = save(*src);
+  for (auto [kind, nx, why] : {std::tuple{ed::ThermostatKind::dual, 6, "the thermostat is 'single' on 6 x 3 bins in "
+                                                                        "the archive, 'dual' on 6 x 3 here"},
+                               std::tuple{ed::ThermostatKind::single, 5, "'single' on 6 x 3 bins in the archive, "
+                                                                         "'single' on 5 x 3 here"}}) {
+    SCOPED_TRACE(why);
+    Handles h2;
+    auto sim = box_builder(ed::CalendarKind::bucket)(h2);
+    ed::ThermostatConfig t = thermostat_config(kind, 30.0, 30.0, 1);
+    t.grid.nx = nx;
+    sim->emplace_timer<ed::Thermostat>(t, sim->state());
+    io::ArchiveReader rd(bytes, "checkpoint box.ckpt");
+    const std::string before = save(*sim);
+    try {
+      sim->load_state(rd);
+      ADD_FAILURE() << "accepted";
+    } catch (const grainflow::Error& e) {
+      EXPECT_NE(std::string(e.what()).find(why), std::string::npos) << e.what();
+    }
+    EXPECT_TRUE(save(*sim) == before);
+  }
+}
 
 namespace {
 

@@ -112,6 +112,9 @@ std::vector<Case> cases(const fs::path& dir) {
         "output.png=false"}},
       {kEd + kRender, {"system.N=40", "boundary.periodic=[false, true]", "boundary.stream.kind=\"low_density\"",
                        "system.U=0.5", "output.png=false", "output.mp4=false"}},
+      // The thermostat's keys are read only when [thermostat] is on.
+      {kEd + kRender + "[thermostat]\nkind = \"single\"\nT = 1.2\ntau = 1.0\ntau_v = 2.0\nbin = 4.0\n",
+       {"system.area_fraction=0.3", "output.png=false", "output.mp4=false"}},
       {kDem + kRender, {"system.initial.kind=\"lattice\"", "output.particles=true", "render.color_by=\"group\"",
                         "render.layout=[2, 1]", "render.panels=[\"density\", \"temperature\"]",
                         "render.ranges.density=[0.0, 1.0]"}},

@@ -3,8 +3,10 @@
 // finished-looking file behind.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdlib>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -889,4 +891,77 @@ TEST(CliRun, MapColourBarsStayFixedForTheWholeRunByDefault) {
   const Result bad = run(common + "--set render.ranges.temperature=[0.01,0.03] -o " + fresh_dir("ranges_bad").string());
   EXPECT_EQ(bad.status, 2) << bad.output;
   EXPECT_TRUE(contains(bad.output, "render.panels has no temperature panel")) << bad.output;
+}
+
+// The thermostat of seed 003 ch. 6 ([thermostat]): disks_box with it completes, stats.csv
+// gains its columns (events per row, power injected), run.json its totals, and a run
+// extended by --resume gives the same bits and rows (its random stream, bins and the stats
+// window are in the checkpoint). Its keys are validated before any folder exists.
+TEST(CliRun, DisksBoxWithAThermostatAddsItsColumnsAndResumesToTheSameBits) {
+  // Started at half T_th: the thermostat heats, so the power is positive.
+  const std::string common = "run " + scenes + "/disks_box.toml --set system.box=[30.0,30.0] --set system.kT=0.01 "
+                             "--set thermostat.T=0.02 --set thermostat.tau=1.0 --set thermostat.tau_v=4.0 "
+                             "--set thermostat.bin=5.0 --set render.size=[64,64] --set output.mp4=false "
+                             "--set output.png=false --set output.checkpoint_every=4 ";
+  const fs::path direct = fresh_dir("thermostat_direct"), extended = fresh_dir("thermostat_extended");
+  const Result r = run(common + "--set run.until=12 -o " + direct.string());
+  ASSERT_EQ(r.status, 0) << r.output;
+  std::ifstream csv(direct / "stats.csv");
+  std::string header, row;
+  std::getline(csv, header);
+  std::vector<std::string> names;
+  for (std::size_t a = 0, b; a <= header.size(); a = b + 1) {
+    b = header.find(',', a);
+    if (b == std::string::npos) b = header.size();
+    names.push_back(header.substr(a, b - a));
+  }
+  const auto col = [&](const char* n) { return std::size_t(std::find(names.begin(), names.end(), n) - names.begin()); };
+  ASSERT_LT(col("thermostat_events"), names.size()) << header;
+  ASSERT_LT(col("thermostat_power"), names.size()) << header;
+  int rows = 0;
+  while (std::getline(csv, row)) {
+    std::vector<double> v;
+    for (std::size_t a = 0, b; a <= row.size(); a = b + 1) {
+      b = row.find(',', a);
+      if (b == std::string::npos) b = row.size();
+      v.push_back(std::atof(row.substr(a, b - a).c_str()));
+    }
+    ASSERT_EQ(v.size(), names.size()) << row;
+    if (v[0] == 0.0) continue;  // the row at t = 0 covers no window
+    ++rows;
+    // N ≈ 745 disks, τ = 1, rows every 2: ≈ 1490 events a row.
+    EXPECT_GT(v[col("thermostat_events")], 1000.0) << row;
+    if (rows == 1) {
+      EXPECT_GT(v[col("thermostat_power")], 0.0) << row;
+    }
+  }
+  EXPECT_EQ(rows, 6);
+  EXPECT_TRUE(contains(read_file(direct / "run.json"), "\"thermostat_events\": ")) << read_file(direct / "run.json");
+  ASSERT_EQ(run(common + "--set run.until=6 -o " + extended.string()).status, 0);
+  const Result resumed = run("run --resume " + extended.string() + " --set run.until=12");
+  ASSERT_EQ(resumed.status, 0) << resumed.output;
+  EXPECT_EQ(state_digest(extended), state_digest(direct));
+  EXPECT_EQ(read_file(extended / "stats.csv"), read_file(direct / "stats.csv"));
+  // Another kind is another trajectory.
+  const fs::path dual = fresh_dir("thermostat_dual");
+  ASSERT_EQ(run(common + "--set run.until=12 --set 'thermostat.kind=\"dual\"' -o " + dual.string()).status, 0);
+  EXPECT_NE(state_digest(dual), state_digest(direct));
+}
+
+TEST(CliRun, ThermostatKeysAreCheckedBeforeTheFolderExists) {
+  struct Bad {
+    std::string set, needle;
+  };
+  for (const Bad& b : {Bad{"thermostat.bin=150.0", "thermostat.bin = 150.0 is larger than the box"},
+                       Bad{"thermostat.bin=0.5", "a bin must hold disks"},
+                       Bad{"thermostat.tau=0.0", "thermostat.tau"},
+                       Bad{"thermostat.tau_v=-1.0", "thermostat.tau_v"},
+                       Bad{"thermostat.T=0.0", "thermostat.T"},
+                       Bad{"thermostat.kind=\\\"triple\\\"", "\"single\" | \"dual\" | \"global\""}}) {
+    const fs::path out = fresh_dir("thermostat_refused");
+    const Result r = run("run " + scenes + "/disks_box.toml -o " + out.string() + " --set \"" + b.set + "\"");
+    EXPECT_EQ(r.status, 2) << b.set << "\n" << r.output;
+    EXPECT_TRUE(contains(r.output, b.needle)) << b.set << "\n" << r.output;
+    EXPECT_FALSE(fs::exists(out)) << b.set;
+  }
 }

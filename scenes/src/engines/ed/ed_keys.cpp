@@ -106,7 +106,7 @@ void declare(Schema& s) {
       c.fail(cell_size.path, "system.cell_size = " + toml_float(cell) +
                                  " leaves fewer than 3 cells across the box; allowed: cell_size ≤ min(Lx, Ly)/3");
   });
-  // The agents' own keys (obstacle, stream boundaries), in table order.
+  // The agents' own keys (obstacle, stream boundaries, thermostat), in table order.
   for (const auto& a : ed_agents()) a.declare_keys(s);
 }
 

@@ -44,11 +44,20 @@ inline constexpr Key<std::string> stream_kind{"boundary.stream.kind"};
 inline constexpr Key<double> filter_distance{"boundary.stream.filter_distance"};
 inline constexpr Key<std::string> piston{"boundary.stream.piston"};
 
+// The stochastic thermostat of seed 003 ch. 6 (agents/thermostat.cpp).
+inline constexpr TableKey thermostat{"thermostat"};
+inline constexpr Key<std::string> thermostat_kind{"thermostat.kind"};
+inline constexpr Key<double> thermostat_T{"thermostat.T"};
+inline constexpr Key<double> thermostat_tau{"thermostat.tau"};
+inline constexpr Key<double> thermostat_tau_v{"thermostat.tau_v"};
+inline constexpr Key<double> thermostat_bin{"thermostat.bin"};
+
 // The area fraction the scene asks for, from whichever of area_fraction, n or N it gives
 // (0 when none): the one conversion the cross-checks use.
 double requested_area_fraction(const Scene& sc);
 
-// Declares [system], [boundary], [boundary.obstacle], [boundary.stream] and their checks.
+// Declares [system], [boundary], [boundary.obstacle], [boundary.stream], [thermostat] and
+// their checks.
 void declare(Schema& s);
 
 }  // namespace grainflow::scenes::ed_keys
