@@ -143,7 +143,7 @@ void PanelRenderer::draw(FrameRenderer& frame, const Snapshot& s, const FrameSty
           if (!nf->label.empty()) label = nf->label;
         } else if (spec.field == "speed" && s.velocity) {
           f = &speed_field(*s.velocity, Vec2(0.0, 0.0));
-          label = "|v|";
+          label = "|<v>|";  // the speed of the mean velocity, not the mean speed <|v|>
         }
         if (!f) {
           missing = "no " + spec.field + " field";
@@ -164,7 +164,9 @@ void PanelRenderer::draw(FrameRenderer& frame, const Snapshot& s, const FrameSty
           break;
         }
         const bool relative = spec.streamlines.relative_to_reference && s.reference_velocity;
-        const std::string speed_label = relative ? "|v − U|" : "|v|";
+        // The speed of the bin's mean velocity (it goes to 0 in a dune), as distinct from
+        // the "speed" field <|v|>, the mean speed of the disks (thermal motion included).
+        const std::string speed_label = relative ? "|<v> − U|" : "|<v>|";
         std::pair<double, double> range;
         if (spec.kind == PanelKind::streamlines) {
           const auto& speed = speed_field(*s.velocity, relative ? reference : Vec2(0.0, 0.0));
