@@ -69,6 +69,8 @@ void declare(Schema& s, std::vector<std::string> colour_attributes) {
                  "colour ranges of the maps: \"run\" fixes each from the first frame that draws it and keeps it "
                  "(frames and runs compare; values beyond it are clipped, marked by triangles on the bar), "
                  "\"frame\" takes each frame's own 2nd–98th percentiles");
+  table.add_enum(filter, {"bilinear", "nearest"}, "bilinear",
+                 "how maps colour between bin centres: interpolated, or each bin one flat colour (shows the bins)");
   auto& fixed = s.optional_table("render.ranges", "fixed colour ranges [lo, hi] of map panels, by panel name");
   for (std::string_view name : ranged_panels())
     fixed.add_float_array(panel_range(name), {0.0, 1.0}, {"lo", "hi"},

@@ -25,6 +25,9 @@ inline constexpr Key<std::string> background{"render.background"};
 // 2nd–98th percentiles (the bars then change from frame to frame).
 inline constexpr Key<std::string> range_mode{"render.range_mode"};
 inline constexpr TableKey ranges{"render.ranges"};
+// How a map colours between bin centres: "bilinear" (default) or "nearest" (each bin one
+// flat colour).
+inline constexpr Key<std::string> filter{"render.filter"};
 // render.ranges.<panel> = [lo, hi]: a fixed range for the panel of that name (the map
 // panels of the panel table: density, temperature, speed, streamlines, …).
 Key<std::array<double, 2>> panel_range(std::string_view panel);

@@ -81,6 +81,9 @@ public:
         title_(scene.get(run_keys::title)),
         exposure_(scene.get(sample_keys::exposure)),
         run_ranges_(scene.get(render_keys::range_mode) == "run") {
+    const auto map_filter = scene.get(render_keys::filter) == "nearest" ? render::FieldFilter::nearest
+                                                                        : render::FieldFilter::bilinear;
+    for (auto& p : layout_.panels) p.filter = map_filter;
     // render.ranges.<panel>: fixed from the start (validation refused ranges of panels
     // that are not drawn).
     const auto names = scene.get(render_keys::panels);
