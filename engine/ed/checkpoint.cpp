@@ -1,11 +1,14 @@
 // Checkpoints of the ED engine: Simulation::save_state / load_state (simulation.hpp).
 //
 // Layout (io::ArchiveWriter, native byte order):
-//   "ed.simulation"  what must match: calendar kind, box and boundaries, collision rule,
+//   "ed.simulation"  what must match: calendar kind, box and boundaries, collision rule
+//                    as constructed (set_restitution's value is state, in "ed.tc"),
 //                    cell size, the number of disks built with, agent and timer names
 //   "ed.agents"      per agent: its name as a tag, then its save()
 //   "ed.timers"      per timer: the same
-//   "ed.state"       SystemState::save (with "ed.cells": the cell membership)
+//   "ed.state"       SystemState::save (with "ed.tc": the TC model's restitution, cutoff,
+//                    step, last-collision times and overlap log; "ed.cells": the cell
+//                    membership)
 //   "ed.end"
 // The calendar is not saved: both calendars pop in the total order of (key, entry index),
 // so EventLoopBase::resume rebuilds an equivalent one from the saved keys.

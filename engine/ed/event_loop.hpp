@@ -2,11 +2,14 @@
 // hot path has no virtual calls: disk–disk collisions and cell crossings are built in,
 // every other agent comes in through ParticleAgent/TimerAgent. Stale events are recognised
 // by the partner's event counter (DynamO style), so "affected" disks (§2.1) are re-predicted
-// lazily, only when their own outdated event comes up.
+// lazily, only when their own outdated event comes up. Inelastic runs may use the TC model
+// of Luding & McNamara 1998 (seed 003 ch. 5, tc_verdict below); elastic ones never touch it.
 #pragma once
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <functional>
+#include <limits>
 #include <vector>
 
 #include "engine/ed/system_state.hpp"
@@ -189,8 +192,15 @@ private:
     s_.grid.image_shift(s_.grid.cell(i), s_.grid.cell(j), sx, sy);
     const double rx = a.x - (b.x + sx), ry = a.y - (b.y + sy);
     const double m1 = a.m, m2 = b.m;
+    // TC model (inelastic runs with a cutoff only; elastic ones never enter).
+    const CollisionParams* rule = &s_.rule;
+    if (s_.tc_on()) [[unlikely]] {
+      const TcVerdict v = tc_verdict(i, j, rx * rx + ry * ry, a.r + b.r, false);
+      if (v == TcVerdict::removed) return;
+      if (v == TcVerdict::elastic) rule = &tc_elastic_rule();
+    }
     const CollisionImpulse J = collision_impulse(rx, ry, a.vx - b.vx, a.vy - b.vy, a.r, b.r,
-                                                 a.w, b.w, m1, m2, s_.rule);
+                                                 a.w, b.w, m1, m2, *rule);
     const double k0 = 0.5 * (m1 * (a.vx * a.vx + a.vy * a.vy) + m2 * (b.vx * b.vx + b.vy * b.vy));
     a.vx += J.jx / m1;
     a.vy += J.jy / m1;
@@ -379,8 +389,14 @@ private:
       s_.grid.image_shift(s_.grid.cell(i), s_.grid.cell(j), sx, sy);
       const double rx = a.x - (b.x + sx), ry = a.y - (b.y + sy);
       const double m = a.m;
+      const CollisionParams* rule = &s_.rule;
+      if (s_.tc_on()) [[unlikely]] {  // the mobile disk's clock alone: a frozen disk is a wall
+        const TcVerdict v = tc_verdict(i, j, rx * rx + ry * ry, a.r + b.r, true);
+        if (v == TcVerdict::removed) return;
+        if (v == TcVerdict::elastic) rule = &tc_elastic_rule();
+      }
       const CollisionImpulse J = collision_impulse_heavy(rx, ry, a.vx - b.vx, a.vy - b.vy, a.r, b.r, a.w,
-                                                         b.w, m, s_.rule);
+                                                         b.w, m, *rule);
       const double k0 = 0.5 * m * (a.vx * a.vx + a.vy * a.vy);
       a.vx += J.jx / m;
       a.vy += J.jy / m;
@@ -421,6 +437,53 @@ private:
     cal_.update(i);
     predict_full(j);
     cal_.update(j);
+  }
+
+  // ---- TC model (Luding & McNamara 1998; seed 003 ch. 5) --------------------------------
+  enum class TcVerdict { inelastic, elastic, removed };
+
+  // Decides a collision of i and j (both synchronised; r2: their squared distance at
+  // contact, sigma: the sum of radii) with the TC model on. dt: the time since the more
+  // recent of the two parties' previous disk–disk collisions (with j frozen, a wall:
+  // i's alone).
+  // * elastic (normal restitution 1) when dt < τ_TC, inelastic otherwise; both parties'
+  //   times become now;
+  // * but a numerical overlap — the centres closer than σ(1 − kOverlapGap) (or not
+  //   finite), or an inelastic collision whose dt is below the clock's resolution (4 ulp
+  //   of now: the collision time scale fell below the precision, seed 003 ch. 5; the
+  //   stalled clock of a collapse) — removes the offending disk instead (the party whose
+  //   previous collision is the more recent, the higher id on a tie; with j frozen, i),
+  //   raises τ_TC by its step and predicts the other disk afresh: `removed`, nothing else
+  //   happens.
+  TcVerdict tc_verdict(int i, int j, double r2, double sigma, bool j_frozen) {
+    std::vector<double>& last = s_.tc_times();
+    const double now = s_.now();
+    const double ti = last[i], tj = j_frozen ? -kNever : last[j];
+    const double dt = now - std::max(ti, tj);
+    const bool elastic = dt < s_.tc.tau;
+    const double resolution = 4.0 * std::numeric_limits<double>::epsilon() * std::abs(now);
+    const double c = r2 - sigma * sigma;
+    if (!(c >= -2.0 * kOverlapGap * sigma * sigma) || (!elastic && dt <= resolution)) [[unlikely]] {
+      const int k = j_frozen ? i : ti > tj ? i : tj > ti ? j : std::max(i, j);
+      const int other = k == i ? j : i;
+      s_.remove_overlapping(k);
+      settle_changes();  // takes k out of the calendar
+      predict_full(other);
+      cal_.update(other);
+      return TcVerdict::removed;
+    }
+    last[i] = now;
+    if (!j_frozen) last[j] = now;
+    return elastic ? TcVerdict::elastic : TcVerdict::inelastic;
+  }
+
+  // The rule of a TC-elastic collision: the configured one with normal restitution 1 (the
+  // tangential part, e_t and μ, as configured); counted in stats.tc_elastic.
+  const CollisionParams& tc_elastic_rule() {
+    ++s_.stats.tc_elastic;
+    tc_rule_ = s_.rule;
+    tc_rule_.e = 1.0;
+    return tc_rule_;
   }
 
   // Steps a neighbour cell index across the grid edge; false when there is no such cell.
@@ -622,6 +685,7 @@ private:
   Calendar cal_;
   std::vector<int> around_;      // scratch: disks around newcomers
   std::vector<Candidate> cand_;  // scratch of scan_cells
+  CollisionParams tc_rule_;      // scratch of tc_elastic_rule
 };
 
 }  // namespace grainflow::ed

@@ -37,6 +37,9 @@ void check_config(const Config& c) {
   if (!(c.e >= 0.0 && c.e <= 1.0)) bad("e", c.e, "0 <= e <= 1");
   if (!(c.e_t >= -1.0 && c.e_t <= 1.0)) bad("e_t", c.e_t, "-1 <= e_t <= 1");
   if (!(c.mu >= 0.0)) bad("mu", c.mu, "mu >= 0 (infinity: no sliding)");
+  if (!(c.tau_tc >= 0.0) || !std::isfinite(c.tau_tc)) bad("tau_tc", c.tau_tc, "tau_tc >= 0 (0: no cutoff)");
+  if (!(c.tau_tc_step >= 0.0) || !std::isfinite(c.tau_tc_step))
+    bad("tau_tc_step", c.tau_tc_step, "tau_tc_step >= 0");
   if (c.open_x && c.periodic_x) bad("open_x", 1, "open_x only with periodic_x = false");
   if (!(c.wall_restitution >= 0.0 && c.wall_restitution <= 1.0))
     bad("wall_restitution", c.wall_restitution, "0 <= wall_restitution <= 1");
@@ -85,6 +88,7 @@ void Simulation::build(std::vector<DiskInit> disks) {
   s_.grid = CellGrid(cfg_.lx, cfg_.ly, cfg_.periodic_x, cfg_.periodic_y, cfg_.min_cell_size,
                      n > 0 ? dmin : 1.0);
   s_.rule = CollisionParams{cfg_.e, cfg_.e_t, cfg_.mu, 0.5};
+  s_.tc = TimeCutoff{cfg_.tau_tc, cfg_.tau_tc_step};
   s_.disk.resize(n);
   s_.counter.assign(n, 0);
   s_.grid.resize_particles(n);
@@ -136,12 +140,15 @@ void Simulation::compact(const std::vector<int>& kept) {
   std::vector<SlotState> states(n);
   std::vector<Disk> disks(static_cast<std::size_t>(n));
   std::vector<std::uint32_t> counters(static_cast<std::size_t>(n));
+  std::vector<double> last(s_.last_collision.empty() ? 0 : static_cast<std::size_t>(n));
   for (int k = 0; k < n; ++k) {
     const int i = kept[k];
     disks[k] = s_.disk[i];
     counters[k] = s_.counter[i];
     states[k] = s_.slot[i];
+    if (!last.empty()) last[k] = s_.last_collision[i];
   }
+  s_.last_collision = std::move(last);
   s_.disk.assign(disks.begin(), disks.end());
   s_.counter.assign(counters.begin(), counters.end());
   s_.grid = CellGrid(s_.grid.lx(), s_.grid.ly(), s_.grid.periodic_x(), s_.grid.periodic_y(),
@@ -218,6 +225,33 @@ bool Simulation::run_until(double t, std::uint64_t max_events) {
 
 std::uint64_t Simulation::advance(std::uint64_t events) { return loop_->advance(events); }
 
+void Simulation::set_restitution(double e) {
+  if (!(e >= 0.0 && e <= 1.0))
+    throw Error(fmt::format("ed: set_restitution({}) is invalid; allowed: 0 <= e <= 1", e));
+  s_.rule.e = e;
+}
+
+void Simulation::set_time_cutoff(double tau_tc, double tau_tc_step) {
+  if (!(tau_tc >= 0.0) || !std::isfinite(tau_tc) || !(tau_tc_step >= 0.0) || !std::isfinite(tau_tc_step))
+    throw Error(fmt::format("ed: set_time_cutoff({}, {}) is invalid; allowed: tau_tc >= 0, tau_tc_step >= 0",
+                            tau_tc, tau_tc_step));
+  s_.tc = TimeCutoff{tau_tc, tau_tc_step};
+}
+
+bool CollapseGuard::collapsed(const Simulation& sim) {
+  const std::uint64_t events = sim.stats().events;
+  if (window_ == 0 || events < events0_ + window_) return false;
+  const double t = sim.time();
+  const double dt = t - t0_;
+  const double dn = double(events - events0_);
+  rate_ = dt > 0.0 ? dn / dt : kNever;
+  average_ = t > 0.0 ? double(events) / t : kNever;
+  events0_ = events;
+  t0_ = t;
+  // Slower than `ratio` of the average: dt < ratio · dn · (t / events).
+  return dt < ratio_ * dn * (t / double(events));
+}
+
 void Simulation::synchronise() {
   for (int i = 0; i < s_.size(); ++i)
     if (s_.present(i)) s_.synchronise(i);
@@ -279,7 +313,7 @@ std::size_t Simulation::memory_bytes() const {
   const std::size_t n = s_.disk.capacity();
   const std::size_t per = sizeof(Disk) + 4 /*counter*/ +
                           sizeof(NextEvent) + 1 /*slot*/;
-  return n * per + s_.grid.memory_bytes() + loop_->calendar_bytes();
+  return n * per + s_.last_collision.capacity() * sizeof(double) + s_.grid.memory_bytes() + loop_->calendar_bytes();
 }
 
 }  // namespace grainflow::ed

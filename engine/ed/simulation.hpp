@@ -42,6 +42,13 @@ struct Config {
   bool open_x = false;
   double wall_restitution = 1.0;
   double e = 1.0, e_t = 1.0, mu = 0.0;        // §3.4 collision rule (mu = 0: smooth disks)
+  // TC model (Luding & McNamara 1998, seed 003 ch. 5), with e < 1 only: a disk–disk
+  // collision is elastic in its normal part (normal restitution 1; the tangential part,
+  // e_t and mu, as configured) when either party's previous disk–disk collision happened
+  // less than tau_tc ago. A numerical overlap removes the offending disk and raises
+  // tau_tc by tau_tc_step (SystemState::remove_overlapping). Both 0: off (an inelastic
+  // dense system then collapses: CollapseGuard). Time units.
+  double tau_tc = 0.0, tau_tc_step = 0.0;
   // Cell edge ≥ this, and ≥ the largest diameter. Seed 003 §2.2 found 1.2σ optimal at
   // η = 0.65 for its code; with the partial rescans on crossing done here, the bucket
   // calendar runs ≈ 25 % faster at 1.0σ (bench_ed --cell), so that is the default.
@@ -125,6 +132,21 @@ public:
   // Minimum over all pairs of (distance − σ_ij) at the current time, O(N²)/cells: for tests.
   double min_gap() const;
 
+  // ---- collision rule at run time; TC model ------------------------------------------
+  // Normal restitution from now on, in [0, 1] (else grainflow::Error): phased runs (an
+  // elastic equilibration, then inelastic cooling). No event changes (the rule decides no
+  // prediction). A checkpoint keeps the value; config().e stays the constructed one.
+  void set_restitution(double e);
+  double restitution() const { return s_.rule.e; }
+  // The TC model's cutoff τ_TC and its step from now on (both ≥ 0, else grainflow::Error).
+  void set_time_cutoff(double tau_tc, double tau_tc_step);
+  double tau_tc() const { return s_.tc.tau; }              // current (raised by removals)
+  double tau_tc_step() const { return s_.tc.step; }
+  bool time_cutoff_on() const { return s_.tc_on(); }       // e < 1 and a cutoff configured
+  // Disks removed as numerically overlapping (TC model), and each removal in order.
+  std::uint64_t overlap_removals() const { return s_.stats.removed_overlap; }
+  const std::vector<OverlapRemoval>& overlap_log() const { return s_.overlap_log; }
+
   // Every collision is reported (tests, tracing); an empty function turns it off.
   void set_collision_observer(std::function<void(const CollisionRecord&)> f) { loop_->on_collision = std::move(f); }
 
@@ -134,10 +156,10 @@ public:
   // ---- checkpoints --------------------------------------------------------------------
   // Writes the complete mutable state — SystemState (disks at their own times, counters,
   // slots, free list, event records, cell membership, books, stats, unsettled outside
-  // changes) and every agent's and timer's save() — so that a simulation restored from it
+  // changes, the TC model's restitution, cutoff, last-collision times and log) and every agent's and timer's save() — so that a simulation restored from it
   // continues bit for bit, as if never interrupted. Call between runs (not from inside an
   // agent's action). The configuration is not saved, only what must match: box and
-  // boundaries, collision rule, cell size, calendar kind, the number of disks built with,
+  // boundaries, collision rule as constructed, cell size, calendar kind, the number of disks built with,
   // the cell grid, and the agents' and timers' names in order.
   void save_state(io::ArchiveWriter& w) const;
   // Restores such a state into a simulation constructed the same way (same Config, same
@@ -160,6 +182,33 @@ private:
   int n_built_ = 0;  // disks given to build() (checkpoints compare it)
   SystemState s_;
   std::unique_ptr<EventLoopBase> loop_;
+};
+
+// Inelastic collapse (McNamara & Young 1994) as a caller sees it: events go on, the clock
+// stops. Fed after each bounded run (Simulation::run_until(t, max_events), advance), it
+// closes a window once `window` events have passed since the last one, and reports the
+// collapse when over that window the simulated time per event fell below `ratio` times
+// the simulation's average so far (time() / events since t = 0): events per unit
+// simulated time 10^6 times the run's average, by default. A healthy gas, even cooling or
+// compressed, stays within a factor of a few hundred; a collapse stalls the clock at
+// its limit point within a few hundred collisions, after which the ratio is ~0. It
+// decides nothing in the simulation (no bit of a run depends on it).
+class CollapseGuard {
+public:
+  explicit CollapseGuard(std::uint64_t window = 10'000'000, double ratio = 1e-6) : window_(window), ratio_(ratio) {}
+  // True when the window just closed shows a collapse. window == 0: never.
+  bool collapsed(const Simulation& sim);
+  // The window in progress (for checkpoints: a restored guard continues it).
+  std::uint64_t window_events() const { return events0_; }
+  double window_time() const { return t0_; }
+  void set_window_start(std::uint64_t events, double t) { events0_ = events; t0_ = t; }
+  // Of the last closed window: events per unit simulated time, and the run's average.
+  double rate() const { return rate_; }
+  double average_rate() const { return average_; }
+
+private:
+  std::uint64_t window_, events0_ = 0;
+  double ratio_, t0_ = 0.0, rate_ = 0.0, average_ = 0.0;
 };
 
 }  // namespace grainflow::ed

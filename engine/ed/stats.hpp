@@ -9,12 +9,16 @@ struct Stats {
   std::uint64_t events = 0;          // every calendar entry processed (incl. stale)
   std::uint64_t collisions = 0;      // disk–disk collisions performed
   std::uint64_t sliding = 0;         // of which in the Coulomb (sliding) branch
+  std::uint64_t tc_elastic = 0;      // of which made elastic by the TC model (seed 003 ch. 5)
   std::uint64_t cell_crossings = 0;
   std::uint64_t stale = 0;           // events discarded because the partner changed
   std::uint64_t agent_events = 0;    // ParticleAgent actions (walls, obstacles, ...)
   std::uint64_t timer_events = 0;    // TimerAgent actions (sampler, thermostat, ...)
   std::uint64_t inserted = 0;        // disks that entered (open stream inlet, §3.2–3.3)
   std::uint64_t removed = 0;         // disks that left (outlet)
+  // Disks removed because they overlapped numerically (TC model, seed 003 ch. 5; not in
+  // `removed`): see SystemState::remove_overlapping.
+  std::uint64_t removed_overlap = 0;
 
   // Measurement window: accumulators since reset at time t0.
   double t0 = 0.0;

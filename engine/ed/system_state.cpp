@@ -95,6 +95,7 @@ void SystemState::grow() {
   disk.resize(n1, Disk{});
   counter.resize(n1, 0u);
   slot.resize(n1, SlotState::absent);
+  if (!last_collision.empty()) last_collision.resize(n1, -kNever);
   grid.grow_particles(n1);
   // Event records exist once the loop has started; the timers' records follow the disk slots.
   if (events_ready_) {
@@ -118,6 +119,7 @@ int SystemState::add_disk(const DiskInit& in) {
   const int i = free_.back();
   free_.pop_back();
   disk[i] = Disk{x, y, in.v.x(), in.v.y(), now_, in.radius, in.mass, in.omega};
+  if (static_cast<std::size_t>(i) < last_collision.size()) last_collision[i] = -kNever;  // a new disk
   ++counter[i];  // predictions that named this slot's former disk are stale
   slot[i] = SlotState::present;
   ++n_present_;
@@ -129,7 +131,20 @@ int SystemState::add_disk(const DiskInit& in) {
 }
 
 void SystemState::remove_disk(int i) {
+  if (take_out(i)) ++stats.removed;
+}
+
+void SystemState::remove_overlapping(int i) {
   if (slot[i] == SlotState::absent) return;
+  const Vec2 p = position_now(i);
+  take_out(i);
+  ++stats.removed_overlap;
+  tc.tau += tc.step;
+  overlap_log.push_back(OverlapRemoval{now_, p.x(), p.y(), tc.tau, i});
+}
+
+bool SystemState::take_out(int i) {
+  if (slot[i] == SlotState::absent) return false;
   if (slot[i] == SlotState::frozen) --n_frozen_;
   else add_books(i, -1.0);
   synchronise(i);
@@ -140,8 +155,8 @@ void SystemState::remove_disk(int i) {
   ++counter[i];  // partners' predictions with it become stale: no collision with the ghost
   if (events_ready_) event[i] = NextEvent{};
   free_.push_back(i);
-  ++stats.removed;
   removed_.push_back({i, c});
+  return true;
 }
 
 void SystemState::freeze(int i, double vx, double vy) {
@@ -195,8 +210,9 @@ struct PackedEvent {
 static_assert(sizeof(PackedEvent) == 32 && std::is_trivially_copyable_v<PackedEvent>);
 // Written as raw bytes, so they must have no padding (a new field: check, then update).
 static_assert(sizeof(Disk) == 8 * sizeof(double));
-static_assert(sizeof(Stats) == 13 * 8, "Stats is written as raw bytes: a new field must not add padding");
+static_assert(sizeof(Stats) == 15 * 8, "Stats is written as raw bytes: a new field must not add padding");
 static_assert(sizeof(SystemState::Removal) == 2 * sizeof(int));
+static_assert(sizeof(OverlapRemoval) == 5 * 8 && std::is_trivially_copyable_v<OverlapRemoval>);
 
 }  // namespace
 
@@ -236,6 +252,12 @@ void SystemState::save(io::ArchiveWriter& w) const {
   w.array(touched_);
   w.array(added_);
   w.array(removed_);
+  w.tag("ed.tc");
+  w.pod(rule.e);
+  w.pod(tc.tau);
+  w.pod(tc.step);
+  w.array(last_collision);
+  w.array(overlap_log);
   w.tag("ed.cells");
   grid.save_members(w);
 }
@@ -269,6 +291,16 @@ SystemState::Saved SystemState::read_saved(io::ArchiveReader& r) const {
   r.array(s.touched);
   r.array(s.added);
   r.array(s.removed);
+  r.tag("ed.tc");
+  r.pod(s.e);
+  r.pod(s.tc.tau);
+  r.pod(s.tc.step);
+  r.array(s.last_collision);
+  r.array(s.overlap_log);
+  if (!(s.e >= 0.0 && s.e <= 1.0) || !(s.tc.tau >= 0.0) || !(s.tc.step >= 0.0))
+    r.corrupt(fmt::format("the TC model has e = {}, tau_tc = {}, tau_tc_step = {}", s.e, s.tc.tau, s.tc.step));
+  if (!s.last_collision.empty() && s.last_collision.size() != n)
+    r.corrupt(fmt::format("{} last-collision times for {} disk slots", s.last_collision.size(), n));
   r.tag("ed.cells");
   s.cells = grid.read_members(r, ni);
 
@@ -367,6 +399,10 @@ void SystemState::restore(Saved&& s) noexcept {
   added_.swap(s.added);
   removed_.swap(s.removed);
   grid.adopt_members(std::move(s.cells));
+  rule.e = s.e;
+  tc = s.tc;
+  last_collision.swap(s.last_collision);
+  overlap_log.swap(s.overlap_log);
 }
 
 }  // namespace grainflow::ed

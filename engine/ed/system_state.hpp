@@ -34,6 +34,30 @@ struct alignas(64) Disk {
   double x = 0.0, y = 0.0, vx = 0.0, vy = 0.0, t = 0.0, r = 0.0, m = 0.0, w = 0.0;
 };
 
+// One disk removed by the TC model's overlap handling (SystemState::remove_overlapping):
+// when, where (at that time), which slot, and the cutoff time τ_TC after the raise.
+struct OverlapRemoval {
+  double t = 0.0, x = 0.0, y = 0.0, tau_tc = 0.0;
+  std::int64_t id = -1;
+};
+
+// The TC (time cutoff) model of Luding & McNamara 1998 (seed 003 ch. 5): a disk–disk
+// collision is elastic in its normal part when either party's previous disk–disk collision
+// happened less than `tau` ago, so that an inelastic system cannot collapse (infinitely
+// many collisions in a finite time). A numerical overlap removes the offending disk and
+// raises tau by `step`. On when e < 1 and tau or step is positive.
+struct TimeCutoff {
+  double tau = 0.0;   // τ_TC, time units; 0: every collision with the configured e
+  double step = 0.0;  // added to tau at each overlap removal
+  bool configured() const { return tau > 0.0 || step > 0.0; }
+};
+
+// Numerical overlap (TC model): at a collision the centres are closer than
+// σ_ij (1 − kOverlapGap), i.e. r² − σ² < −2 kOverlapGap σ². Twice the overlap a built
+// configuration may have (Simulation refuses initial gaps below −10^-9 σ), far above the
+// round-off of a contact (≈ 10^-14 σ).
+inline constexpr double kOverlapGap = 2e-9;
+
 // What a disk's scheduled non-crossing event is.
 enum class EventKind : std::uint8_t { None = 0, Pair = 1, Agent = 2 };
 
@@ -109,6 +133,26 @@ public:
   std::vector<std::int32_t> cell_agent_begin, cell_agents;
 
   Stats stats;
+
+  // ---- TC model (seed 003 ch. 5, Luding & McNamara 1998) ------------------------------
+  TimeCutoff tc;
+  // The TC model is on: inelastic (rule.e < 1) and a cutoff configured. Only then does
+  // the loop read or write last_collision (elastic runs never touch it).
+  bool tc_on() const { return rule.e < 1.0 && tc.configured(); }
+  // Time of each slot's previous disk–disk collision (−∞: none yet). Empty until the TC
+  // model first needs it (then sized to size() by tc_times()); compacted with the disks
+  // and reset for a disk added into a slot.
+  std::vector<double> last_collision;
+  std::vector<double>& tc_times() {
+    if (last_collision.size() != disk.size()) last_collision.resize(disk.size(), -kNever);
+    return last_collision;
+  }
+  // Every overlap removal so far, in order.
+  std::vector<OverlapRemoval> overlap_log;
+  // Removes disk i as numerically overlapping (TC model): as remove_disk, but counted in
+  // stats.removed_overlap (not stats.removed), logged with its position now, and the
+  // cutoff raised by tc.step. Callable where remove_disk is (the loop settles it).
+  void remove_overlapping(int i);
 
   double now() const { return now_; }
   double area() const { return grid.lx() * grid.ly(); }
@@ -192,8 +236,10 @@ public:
   // records, the free-slot list (its order decides which ids are reused), the changes
   // made from outside and not yet settled by the loop (set_velocity, add_disk, … between
   // runs: kept, and settled when the next run starts, as without the checkpoint), the
-  // stats, and the cell map's membership. Not saved: the grid geometry, collision rule,
-  // agents and their cell lists, which the identical construction rebuilds.
+  // stats, the cell map's membership, and the TC model's state (the normal restitution as
+  // it stands — Simulation::set_restitution may change it —, cutoff and step, the
+  // last-collision times, the overlap log). Not saved: the grid geometry, the rest of the
+  // collision rule, agents and their cell lists, which the identical construction rebuilds.
   struct Saved {
     double now = 0.0, kin = 0.0, rot = 0.0, px = 0.0, py = 0.0, mtot = 0.0, dmin = 0.0, dmax = 0.0;
     int n_present = 0, n_frozen = 0;
@@ -206,6 +252,10 @@ public:
     std::vector<Removal> removed;
     Stats stats;
     CellGrid::Members cells;
+    double e = 1.0;
+    TimeCutoff tc;
+    std::vector<double> last_collision;
+    std::vector<OverlapRemoval> overlap_log;
   };
   void save(io::ArchiveWriter& w) const;
   // Reads what save() wrote into a separate record, checked against this state (grid
@@ -218,6 +268,7 @@ public:
   void restore(Saved&& s) noexcept;
 
 private:
+  bool take_out(int i);  // remove_disk without the counting; false when the slot was empty
   void grow();
   void add_books(int i, double sign);
 

@@ -93,6 +93,21 @@ void expect_same_run(const ed::Simulation& a, const ed::Simulation& b, bool with
   EXPECT_EQ(x.timer_events, y.timer_events);
   EXPECT_EQ(x.inserted, y.inserted);
   EXPECT_EQ(x.removed, y.removed);
+  EXPECT_EQ(x.removed_overlap, y.removed_overlap);
+  EXPECT_EQ(x.tc_elastic, y.tc_elastic);
+  // The TC model's state: restitution, cutoff, last-collision times, overlap log.
+  EXPECT_EQ(bits(a.restitution()), bits(b.restitution()));
+  EXPECT_EQ(bits(a.tau_tc()), bits(b.tau_tc()));
+  EXPECT_EQ(bits(a.tau_tc_step()), bits(b.tau_tc_step()));
+  EXPECT_EQ(a.state().last_collision.size(), b.state().last_collision.size());
+  if (a.state().last_collision.size() == b.state().last_collision.size() && !a.state().last_collision.empty()) {
+    EXPECT_EQ(std::memcmp(a.state().last_collision.data(), b.state().last_collision.data(),
+                          a.state().last_collision.size() * sizeof(double)),
+              0);
+  }
+  ASSERT_EQ(a.overlap_log().size(), b.overlap_log().size());
+  for (std::size_t k = 0; k < a.overlap_log().size(); ++k)
+    EXPECT_EQ(std::memcmp(&a.overlap_log()[k], &b.overlap_log()[k], sizeof(ed::OverlapRemoval)), 0) << "removal " << k;
   EXPECT_EQ(bits(x.t0), bits(y.t0));
   EXPECT_EQ(x.collisions0, y.collisions0);
   EXPECT_EQ(bits(x.virial), bits(y.virial));
@@ -250,6 +265,78 @@ void check_box(ed::CalendarKind cal) {
 
 TEST(EdCheckpoint, EquilibriumBoxBucketCalendar) { check_box(ed::CalendarKind::bucket); }
 TEST(EdCheckpoint, EquilibriumBoxCellHeapCalendar) { check_box(ed::CalendarKind::cell_heap); }
+
+namespace {
+
+// ---- 1b. inelastic box with the TC model (seed 003 ch. 5) --------------------------------
+// Rough disks at e = 0.5, no cutoff at first and a step: at t ≈ 19.2 an inelastic collision
+// comes below the clock's precision, removes its offender and raises τ_TC (the numbers are
+// printed). Saved before that removal (t1 = 10) and after it (t1 = 23.3): the restored run
+// continues bit for bit — last-collision times, cutoff, the log of removals included.
+Builder tc_builder(ed::CalendarKind cal) {
+  return [cal](Handles& h) {
+    ed::Config c = box_config(cal);
+    c.e = 0.5;
+    c.tau_tc = 0.0;
+    c.tau_tc_step = 1e-6;
+    auto sim = std::make_unique<ed::Simulation>(c);
+    h.sampler = &sim->emplace_timer<ed::FieldSampler>(sampler_config(30.0, 30.0, 6, 6, 0.5, 10.0), sim->time());
+    return sim;
+  };
+}
+
+void check_tc(ed::CalendarKind cal, double t1) {
+  const double t2 = 41.0;
+  Restart r = restart(tc_builder(cal), t1, t2, 5.0);
+  ASSERT_GE(r.a->overlap_removals(), 1u);
+  std::printf("  TC: %llu removal(s), the first at t = %.10g; tau_tc = %g; %llu TC-elastic collisions\n",
+              (unsigned long long)r.a->overlap_removals(), r.a->overlap_log()[0].t, r.a->tau_tc(),
+              (unsigned long long)r.a->stats().tc_elastic);
+  EXPECT_GT(r.a->stats().tc_elastic, 0u);
+  EXPECT_FALSE(r.a->state().last_collision.empty());
+  if (t1 > 20.0) {
+    EXPECT_LT(r.a->overlap_log()[0].t, t1);  // the archive holds a removal and a raised cutoff
+  } else {
+    EXPECT_GT(r.a->overlap_log()[0].t, t1);  // the restored run makes the same removal
+  }
+  expect_restart_is_exact(r);
+}
+
+}  // namespace
+
+TEST(EdCheckpoint, InelasticTcBoxAfterARemovalBucketCalendar) { check_tc(ed::CalendarKind::bucket, 23.3); }
+TEST(EdCheckpoint, InelasticTcBoxAfterARemovalCellHeapCalendar) { check_tc(ed::CalendarKind::cell_heap, 23.3); }
+TEST(EdCheckpoint, InelasticTcBoxBeforeARemoval) { check_tc(ed::CalendarKind::bucket, 10.0); }
+
+// Phased runs: elastic, then inelastic with the TC model from set_restitution and
+// set_time_cutoff. The archive carries the restitution and cutoff as they stand, so a
+// simulation constructed elastic, as the scene says, continues the inelastic phase.
+TEST(EdCheckpoint, RestitutionChangedAtRunTimeIsRestored) {
+  ed::Config c = box_config(ed::CalendarKind::bucket);
+  c.mu = 0.0;
+  ed::Simulation a(c), b(c);
+  for (ed::Simulation* s : {&a, &b}) {
+    s->run_until(5.0);
+    s->set_restitution(0.6);
+    s->set_time_cutoff(1e-3, 1e-4);
+    s->run_until(10.0);
+  }
+  const std::string at10 = save(b);
+  ed::Simulation restored(c);
+  EXPECT_EQ(restored.restitution(), 1.0);
+  load(restored, at10);
+  EXPECT_EQ(restored.restitution(), 0.6);
+  EXPECT_EQ(restored.tau_tc(), 1e-3);
+  EXPECT_EQ(restored.tau_tc_step(), 1e-4);
+  EXPECT_TRUE(restored.time_cutoff_on());
+  a.run_until(20.0);
+  restored.run_until(20.0);
+  b.run_until(20.0);
+  expect_same_run(a, restored, false);
+  expect_same_run(b, restored, true);
+  EXPECT_TRUE(save(b) == save(restored));
+  EXPECT_LT(restored.state().kT(), 0.5 * c.kT);  // it did cool
+}
 
 namespace {
 

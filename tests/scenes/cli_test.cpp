@@ -274,6 +274,8 @@ TEST(CliRun, FailedStartLeavesNoFolder) {
 // SIGTERM is honoured within a second even inside an engine slice: an inelastic box
 // (e = 0.5) collapses after t ≈ 52 — its clock stops while collisions go on — and used to
 // ignore the signal for minutes. It stops as "interrupted" with its outputs in place.
+// A collapsing inelastic box (e = 0.5 without the TC model) keeps the engine busy while
+// the clock stands still; the collapse guard is switched off here, so only the signal ends it.
 TEST(CliRun, SigtermStopsACollapsingRunWithinASecond) {
   const fs::path out = fresh_dir("run_collapse");
   const pid_t pid = fork();
@@ -283,7 +285,8 @@ TEST(CliRun, SigtermStopsACollapsingRunWithinASecond) {
     std::freopen("/dev/null", "w", stdout);
     std::freopen("/dev/null", "w", stderr);
     execl(GRAINFLOW_EXE, GRAINFLOW_EXE, "run", (scenes + "/disks_box.toml").c_str(), "-o", dir.c_str(), "--set",
-          "system.e=0.5", "--set", "run.until=1e6", "--set", "render.size=[64,64]", static_cast<char*>(nullptr));
+          "system.e=0.5", "--set", "system.collapse_events=0", "--set", "run.until=1e6", "--set", "render.size=[64,64]",
+          static_cast<char*>(nullptr));
     _exit(127);
   }
   std::this_thread::sleep_for(std::chrono::seconds(4));  // collapsed by then (t stalls near 52)
@@ -435,6 +438,62 @@ std::map<std::string, std::vector<double>> read_csv(const fs::path& file) {
     }
   }
   return cols;
+}
+
+// The TC model through the scene (seed 003 ch. 5): the e = 0.5 box with a cutoff cools
+// to its end; stats.csv carries the cutoff and the removals. Started without a cutoff but
+// with a step, the first collision below the clock's precision removes its disk (a line
+// on stderr with time and position), and the cutoff becomes the step.
+TEST(CliRun, InelasticBoxWithTheTimeCutoffCompletesAndCools) {
+  for (const std::string tc : {"--set system.tau_tc=1e-4", "--set system.tau_tc_step=1e-4"}) {
+    SCOPED_TRACE(tc);
+    const fs::path out = fresh_dir("run_tc");
+    const Result r = run("run " + scenes + "/disks_box.toml -o " + out.string() +
+                         " --set system.e=0.5 " + tc + " --set run.until=100 --set output.mp4=false --set output.png=false");
+    ASSERT_EQ(r.status, 0) << r.output;
+    EXPECT_FALSE(contains(r.output, "without the TC model")) << r.output;
+    EXPECT_TRUE(contains(read_file(out / "run.json"), "\"status\": \"complete\""));
+    auto cols = read_csv(out / "stats.csv");
+    ASSERT_EQ(cols.count("removed_overlap"), 1u);
+    ASSERT_EQ(cols.count("tau_tc"), 1u);
+    const auto& kT = cols["kT"];
+    ASSERT_EQ(kT.size(), 50u);
+    EXPECT_EQ(cols["time"].back(), 100.0);
+    EXPECT_LT(kT.back(), 0.05 * kT.front());
+    // Energy only leaves; a removal may lift the mean a hair (a slow disk gone).
+    for (std::size_t k = 5; k < kT.size(); ++k) EXPECT_LT(kT[k], kT[k - 5]) << "row " << k;
+    EXPECT_EQ(cols["tau_tc"].back(), 1e-4);
+    const double removed = cols["removed_overlap"].back();
+    EXPECT_EQ(cols["N"].back(), cols["N"].front() - (removed - cols["removed_overlap"].front()));
+    if (contains(tc, "step")) {
+      EXPECT_GE(removed, 1.0);
+      EXPECT_EQ(cols["tau_tc"].front(), 0.0);  // the first row is before the removal (t ≈ 26)
+      EXPECT_TRUE(contains(r.output, "overlapped and was removed; tau_tc → 0.0001")) << r.output;
+      EXPECT_TRUE(contains(r.output, "grainflow: t = 26.")) << r.output;
+    } else {
+      EXPECT_EQ(removed, 0.0);
+    }
+  }
+}
+
+// Without the TC model the same box collapses (its clock stalls at t ≈ 52): the run is
+// warned at the start, and fails, saying what happened and what to do, instead of spinning.
+TEST(CliRun, ACollapsingInelasticRunFailsWithWhatToDo) {
+  const fs::path out = fresh_dir("run_collapse_guard");
+  const auto t0 = std::chrono::steady_clock::now();
+  const Result r = run("run " + scenes + "/disks_box.toml -o " + out.string() +
+                       " --set system.e=0.5 --set run.until=1e6 --set system.collapse_events=2000000"
+                       " --set output.mp4=false --set output.png=false");
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_TRUE(contains(r.output, "without the TC model")) << r.output;
+  EXPECT_TRUE(contains(r.output, "ed: the system collapsed at t = 52.")) << r.output;
+  EXPECT_TRUE(contains(r.output, "system.tau_tc > 0")) << r.output;
+  EXPECT_LT(seconds, 30.0);
+  const std::string json = read_file(out / "run.json");
+  EXPECT_TRUE(contains(json, "\"status\": \"failed\"")) << json;
+  EXPECT_TRUE(contains(json, "collapsed")) << json;
+  EXPECT_TRUE(fs::exists(out / "stats.csv.partial"));  // the rows up to the collapse, as any failed run
 }
 
 TEST(CliRun, DemVanDerWaalsPairOscillatesAndSettles) {

@@ -47,6 +47,26 @@ void declare(Schema& s) {
       .at_least(0.0)
       .at_most(1.0);
   sys.add_float(mu, 0.0, "Coulomb friction coefficient (Eq. 3.65); 0 = smooth disks, no rotation").at_least(0.0);
+  // TC model (Luding & McNamara 1998; seed 003 ch. 5): off by default, so that e < 1
+  // means exactly what it says; a dense inelastic scene without it collapses, and the run
+  // then fails with a message saying so (collapse_events), never hangs.
+  sys.add_float(tau_tc, 0.0,
+                "TC model, with e < 1: a collision is elastic in its normal part when either disk collided less than "
+                "tau_tc ago, so inelastic systems cannot collapse (0 = off; LM98 use 1e-4 … 1e-2 of the mean free "
+                "time: ≈ 1e-4 at η = 0.65, kT = 0.02)",
+                "τ")
+      .at_least(0.0);
+  sys.add_float(tau_tc_step, 0.0,
+                "TC model, with e < 1: a disk found overlapping (or colliding inelastically faster than the clock "
+                "resolves) is removed and tau_tc raised by this much (seed 003 ch. 5; 0 = tau_tc stays; tau_tc = 0 "
+                "with a step > 0: the first such event sets the cutoff)",
+                "τ")
+      .at_least(0.0);
+  sys.add_int(collapse_events, 10'000'000,
+              "collapse guard: the run fails as collapsed when over this many events the clock advanced less than "
+              "1e-6 of what the run's average time per event gives (0 = never; inelastic collapse, cure: tau_tc)")
+      .at_least(0)
+      .may_change_on_resume();  // it decides no bit of the state, only when a run gives up
   sys.add_enum(calendar, {"bucket", "cell_heap"}, "bucket",
                "event calendar: bucket queue of one event per disk (fastest), or the seed's heap of cells (§2.4)");
   sys.add_float(cell_size, 1.2, "target side of the cells (§2.2: ≈ 1.2 σ at η = 0.65)", "σ")

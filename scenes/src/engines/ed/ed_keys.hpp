@@ -23,6 +23,9 @@ inline constexpr Key<double> U{"system.U"};
 inline constexpr Key<double> e{"system.e"};
 inline constexpr Key<double> e_t{"system.e_t"};
 inline constexpr Key<double> mu{"system.mu"};
+inline constexpr Key<double> tau_tc{"system.tau_tc"};
+inline constexpr Key<double> tau_tc_step{"system.tau_tc_step"};
+inline constexpr Key<std::int64_t> collapse_events{"system.collapse_events"};
 inline constexpr Key<std::string> calendar{"system.calendar"};
 inline constexpr Key<double> cell_size{"system.cell_size"};
 // The initial state: the melting lattice (at area_fraction | n | N, Maxwell velocities at

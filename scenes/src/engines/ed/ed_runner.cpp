@@ -7,6 +7,7 @@
 #include <numbers>
 #include <optional>
 #include <type_traits>
+#include <cstdio>
 #include <stdexcept>
 #include <string>
 
@@ -57,6 +58,8 @@ ed::Config ed_config(const Scene& sc) {
   c.mu = sc.get(keys::mu);
   const double e_t = sc.get(keys::e_t);
   c.e_t = c.mu > 0 ? e_t : 1.0;  // tangential restitution matters only with friction
+  c.tau_tc = sc.get(keys::tau_tc);
+  c.tau_tc_step = sc.get(keys::tau_tc_step);
   c.min_cell_size = sc.get(keys::cell_size);
   c.calendar = ed::calendar_from_name(sc.get(keys::calendar));
   // Open stream boundaries close the x axis themselves (seed 003 §3.2–3.3): no x walls.
@@ -151,7 +154,15 @@ const DiskAttribute& disk_attribute(std::string_view name) { return find_attribu
 
 class EdRunner final : public EngineRunner {
 public:
-  explicit EdRunner(const Scene& sc) : sim_ptr_(make_simulation(sc)), sim_(*sim_ptr_) {
+  explicit EdRunner(const Scene& sc)
+      : sim_ptr_(make_simulation(sc)), sim_(*sim_ptr_), guard_(std::uint64_t(sc.get(keys::collapse_events))) {
+    const ed::Config& cfg = sim_.config();
+    if (cfg.e < 1.0 && cfg.tau_tc == 0.0 && cfg.tau_tc_step == 0.0)
+      std::fprintf(stderr,
+                   "grainflow: system.e = %g < 1 without the TC model (system.tau_tc = 0, system.tau_tc_step = 0): a "
+                   "dense inelastic system collapses, and the run then fails; system.tau_tc ≈ 1e-4 of the mean free "
+                   "time prevents it\n",
+                   cfg.e);
     ed::SamplerConfig sc_cfg;
     const auto bins = sc.get(sample_keys::bins);
     sc_cfg.grid.nx = bins[0];
@@ -166,9 +177,16 @@ public:
   }
 
   double time() const override { return sim_.time(); }
-  // 5·10^5 events ≈ 0.2–0.6 s at this engine's rates.
-  void advance_to(double t) override { sim_.run_until(t, 500'000); }
-  void advance_steps(std::uint64_t n) override { sim_.advance(n); }
+  // 5·10^5 events ≈ 0.2–0.6 s at this engine's rates. Then the TC model's removals are
+  // reported and the collapse guard consulted (it throws when the clock has stalled).
+  void advance_to(double t) override {
+    sim_.run_until(t, 500'000);
+    after_advance();
+  }
+  void advance_steps(std::uint64_t n) override {
+    sim_.advance(n);
+    after_advance();
+  }
   std::uint64_t steps_done() const override { return sim_.stats().events; }
 
   void snapshot(const std::string& colour_by, render::Snapshot& s) override {
@@ -246,6 +264,8 @@ public:
     for (const auto& a : agents_)
       for (auto& name : a->stats_columns()) c.push_back(std::move(name));
     for (const char* name : {"inserted", "removed", "N_frozen"}) c.emplace_back(name);
+    // The TC model (seed 003 ch. 5): disks removed as overlapping so far, the cutoff now.
+    for (const char* name : {"removed_overlap", "tau_tc"}) c.emplace_back(name);
     return c;
   }
   void check_finite() const override { require_finite(sim_.kinetic_energy()); }
@@ -263,6 +283,10 @@ public:
     // boundaries since the start; N_frozen: of N, those frozen by the filter (§3.3).
     for (double v : {double(sim_.stats().inserted), double(sim_.stats().removed), double(sim_.state().frozen_count())})
       row.push_back(v);
+    row.push_back(double(sim_.overlap_removals()));
+    row.push_back(sim_.tau_tc());
+    if (first_mean_free_time_ == 0 && std::isfinite(o.mean_free_time) && o.mean_free_time > 0)
+      first_mean_free_time_ = o.mean_free_time;
     sim_.reset_measurements();
     return row;
   }
@@ -277,6 +301,9 @@ public:
                        {"disks", double(sim_.count())},
                        {"disks_inserted", double(sim_.stats().inserted)},
                        {"disks_removed", double(sim_.stats().removed)},
+                       {"disks_removed_overlap", double(sim_.overlap_removals())},
+                       {"collisions_tc_elastic", double(sim_.stats().tc_elastic)},
+                       {"tau_tc", sim_.tau_tc()},
                        {"area_fraction", sim_.area_fraction()}});
     return f;
   }
@@ -287,12 +314,23 @@ public:
     w.tag("ed.runner");
     w.pod(std::uint64_t(agents_.size()));
     for (const auto& a : agents_) a->save(w);
+    // The collapse guard's window in progress, and the mean free time its message quotes.
+    w.tag("ed.guard");
+    w.pod(guard_.window_events());
+    w.pod(guard_.window_time());
+    w.pod(first_mean_free_time_);
   }
   void load(io::ArchiveReader& r) override {
     sim_.load_state(r);
     r.tag("ed.runner");
     if (r.get<std::uint64_t>() != agents_.size()) r.mismatch("another set of agents (obstacle, stream boundaries)");
     for (const auto& a : agents_) a->load(r);
+    r.tag("ed.guard");
+    const auto events0 = r.get<std::uint64_t>();
+    const double t0 = r.get<double>();
+    guard_.set_window_start(events0, t0);
+    r.pod(first_mean_free_time_);
+    reported_ = sim_.overlap_log().size();  // reported by the run before
   }
 
   std::string state_digest() const override {
@@ -311,6 +349,38 @@ public:
   }
 
 private:
+  // Each overlap removal once, on stderr; then the collapse guard (a run whose clock has
+  // stalled fails, with what to do, instead of spinning until it is killed).
+  void after_advance() {
+    const auto& log = sim_.overlap_log();
+    for (; reported_ < log.size(); ++reported_) {
+      const ed::OverlapRemoval& x = log[reported_];
+      std::fprintf(stderr, "grainflow: t = %.9g: disk %lld at (%.6g, %.6g) overlapped and was removed; tau_tc → %.6g\n",
+                   x.t, static_cast<long long>(x.id), x.x, x.y, x.tau_tc);
+    }
+    if (!guard_.collapsed(sim_)) return;
+    const std::string rate = std::isfinite(guard_.rate())
+                                 ? fmt::format("{:.3g} events per unit time, {:.3g} times the run's average",
+                                               guard_.rate(), guard_.rate() / guard_.average_rate())
+                                 : std::string("the clock did not move at all");
+    const std::string suggestion =
+        first_mean_free_time_ > 0 ? fmt::format(" (e.g. {:.2g}, 1e-4 of the mean free time {:.3g} of the first stats row)",
+                                                1e-4 * first_mean_free_time_, first_mean_free_time_)
+                                  : std::string(" (≈ 1e-4 of the mean free time)");
+    std::string cure;
+    if (sim_.time_cutoff_on())
+      cure = fmt::format("raise system.tau_tc (now {:.3g}) or system.tau_tc_step (now {:.3g})", sim_.tau_tc(),
+                         sim_.tau_tc_step());
+    else if (sim_.restitution() < 1.0)
+      cure = "switch on the TC model: system.tau_tc > 0" + suggestion + ", or system.tau_tc_step > 0";
+    else
+      cure = "check the scene (an elastic system should not stall)";
+    throw Error(fmt::format("ed: the system collapsed at t = {:.9g}: the simulated time stopped advancing ({}; "
+                            "e = {}: infinitely many collisions in a finite time, McNamara & Young 1994); allowed: "
+                            "{}; or system.collapse_events = 0 to let it spin",
+                            sim_.time(), rate, sim_.restitution(), cure));
+  }
+
   // A state that has turned non-finite: see EngineRunner::check_finite.
   void require_finite(double kinetic) const {
     if (!std::isfinite(kinetic))
@@ -383,6 +453,9 @@ private:
 
   std::unique_ptr<ed::Simulation> sim_ptr_;
   ed::Simulation& sim_;
+  ed::CollapseGuard guard_;
+  std::size_t reported_ = 0;             // overlap removals printed so far
+  double first_mean_free_time_ = 0;      // of the first stats row with collisions (for messages)
   ed::FieldSampler* sampler_ = nullptr;     // owned by sim_
   std::vector<std::unique_ptr<EdAgentRun>> agents_;  // the table's agents the scene switched on
   std::optional<core::GridGeometry> open_grid_;      // the grid open_ was computed for
