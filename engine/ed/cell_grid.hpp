@@ -84,6 +84,27 @@ public:
       __builtin_prefetch(b);
     });
   }
+  // Calls f(cc) for each cell of the 3×3 neighbourhood of cell c, wrapping periodic axes
+  // and leaving out cells beyond a non-periodic edge. Periodic axes have at least 3 cells,
+  // so the cells are distinct.
+  template <class F>
+  void for_neighbour_cells(int c, F&& f) const {
+    for (int ky = -1; ky <= 1; ++ky) {
+      int cy = iy(c) + ky;
+      if (cy < 0 || cy >= ny_) {
+        if (!py_) continue;
+        cy = (cy + ny_) % ny_;
+      }
+      for (int kx = -1; kx <= 1; ++kx) {
+        int cx = ix(c) + kx;
+        if (cx < 0 || cx >= nx_) {
+          if (!px_) continue;
+          cx = (cx + nx_) % nx_;
+        }
+        f(index(cx, cy));
+      }
+    }
+  }
   // Calls f(j) for every disk of the 3×3 block around cell c (for cache hints).
   template <class F>
   void for_block_members(int c, F&& f) const {

@@ -41,32 +41,20 @@ StreamInlet::StreamInlet(const StreamInletConfig& cfg, std::shared_ptr<const Str
 bool StreamInlet::spot_is_free(const SystemState& s, double x, double y) const {
   const CellGrid& g = s.grid;
   const int c = g.cell_of_point(x, y);
-  for (int ky = -1; ky <= 1; ++ky) {
-    int cy = g.iy(c) + ky;
-    if (cy < 0 || cy >= g.ny()) {
-      if (!g.periodic_y()) continue;
-      cy = (cy + g.ny()) % g.ny();
+  bool free = true;
+  g.for_neighbour_cells(c, [&](int cc) {
+    const std::int32_t* m = g.members(cc);
+    for (int k = 0; k < g.count(cc) && free; ++k) {
+      const int j = m[k];
+      const Vec2 p = s.position_now(j);
+      double dx = p.x() - x, dy = p.y() - y;
+      if (g.periodic_x()) dx -= g.lx() * std::round(dx / g.lx());
+      if (g.periodic_y()) dy -= g.ly() * std::round(dy / g.ly());
+      const double sig = cfg_.radius + s.disk[j].r;
+      if (dx * dx + dy * dy < sig * sig) free = false;
     }
-    for (int kx = -1; kx <= 1; ++kx) {
-      int cx = g.ix(c) + kx;
-      if (cx < 0 || cx >= g.nx()) {
-        if (!g.periodic_x()) continue;
-        cx = (cx + g.nx()) % g.nx();
-      }
-      const int cc = g.index(cx, cy);
-      const std::int32_t* m = g.members(cc);
-      for (int k = 0; k < g.count(cc); ++k) {
-        const int j = m[k];
-        const Vec2 p = s.position_now(j);
-        double dx = p.x() - x, dy = p.y() - y;
-        if (g.periodic_x()) dx -= g.lx() * std::round(dx / g.lx());
-        if (g.periodic_y()) dy -= g.ly() * std::round(dy / g.ly());
-        const double sig = cfg_.radius + s.disk[j].r;
-        if (dx * dx + dy * dy < sig * sig) return false;
-      }
-    }
-  }
-  return true;
+  });
+  return free;
 }
 
 void StreamInlet::action(SystemState& s) {

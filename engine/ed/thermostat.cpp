@@ -130,25 +130,11 @@ int Thermostat::random_partner(const SystemState& s, int i) {
   const CellGrid& g = s.grid;
   const int c = g.cell(i);
   partners_.clear();
-  for (int ky = -1; ky <= 1; ++ky) {
-    int cy = g.iy(c) + ky;
-    if (cy < 0 || cy >= g.ny()) {
-      if (!g.periodic_y()) continue;
-      cy = (cy + g.ny()) % g.ny();
-    }
-    for (int kx = -1; kx <= 1; ++kx) {
-      int cx = g.ix(c) + kx;
-      if (cx < 0 || cx >= g.nx()) {
-        if (!g.periodic_x()) continue;
-        cx = (cx + g.nx()) % g.nx();
-      }
-      // Periodic axes have at least 3 cells: the 9 cells are distinct.
-      const int cc = g.index(cx, cy);
-      const std::int32_t* m = g.members(cc);
-      for (int k = 0, n = g.count(cc); k < n; ++k)
-        if (m[k] != i && !s.frozen(m[k])) partners_.push_back(m[k]);
-    }
-  }
+  g.for_neighbour_cells(c, [&](int cc) {
+    const std::int32_t* m = g.members(cc);
+    for (int k = 0, n = g.count(cc); k < n; ++k)
+      if (m[k] != i && !s.frozen(m[k])) partners_.push_back(m[k]);
+  });
   if (partners_.empty()) return -1;
   return partners_[static_cast<std::size_t>(rng_.below(partners_.size()))];
 }
