@@ -68,23 +68,21 @@ Checkpoint read_checkpoint(const std::filesystem::path& file) {
   if (is.bad()) throw Error("cannot read " + what + ": " + std::strerror(errno));
   if (bytes.size() < sizeof kMagic || std::memcmp(bytes.data(), kMagic, sizeof kMagic) != 0)
     throw Error(file.string() + " is not a grainflow checkpoint (no GFCKPT signature)");
-  ArchiveReader r(bytes, what);
-  char magic[8];
-  r.pod(magic);
-  const auto version = r.get<std::uint32_t>();
-  (void)r.get<std::uint32_t>();
-  if (version != kCheckpointVersion)
-    throw Error(what + " has format version " + std::to_string(version) + "; this grainflow reads version " +
-                std::to_string(kCheckpointVersion) + " only");
-  if (bytes.size() < sizeof(std::uint64_t) + sizeof kMagic + 8)
+  if (bytes.size() < sizeof kMagic + 2 * sizeof(std::uint32_t) + sizeof(std::uint64_t))
     throw Error(what + " is truncated");
+  // Everything before the trailing checksum, read in order; a cut file says "truncated"
+  // (from the lengths) rather than just "checksum".
   const std::string_view body(bytes.data(), bytes.size() - sizeof(std::uint64_t));
   std::uint64_t stored = 0;
   std::memcpy(&stored, bytes.data() + body.size(), sizeof stored);
-  // Lengths first: a cut file says "truncated", not just "checksum".
   ArchiveReader lengths(body, what);
+  char magic[8];
   lengths.pod(magic);
-  (void)lengths.get<std::uint64_t>();
+  const auto version = lengths.get<std::uint32_t>();
+  (void)lengths.get<std::uint32_t>();
+  if (version != kCheckpointVersion)
+    throw Error(what + " has format version " + std::to_string(version) + "; this grainflow reads version " +
+                std::to_string(kCheckpointVersion) + " only");
   Checkpoint ck;
   const std::string header = lengths.string();
   ck.payload = lengths.string();

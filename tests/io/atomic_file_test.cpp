@@ -18,11 +18,7 @@ namespace {
 
 namespace fs = std::filesystem;
 using render::test::fresh_dir;
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
+using render::test::slurp;
 
 int entries(const fs::path& dir) {
   int n = 0;

@@ -24,6 +24,7 @@ extern "C" {
 #include <vector>
 
 #include "render/image/image.hpp"
+#include "tests/render/output_test_support.hpp"
 
 namespace grainflow::render::test {
 
@@ -117,11 +118,6 @@ inline double psnr_rgb(const Image& a, const Image& b) {
       }
   const double mse = se / (3.0 * a.width * a.height);
   return 10.0 * std::log10(255.0 * 255.0 / std::max(mse, 1e-12));
-}
-
-inline std::string slurp(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
 
 // Frames a player gets out of a file that may end in a torn fragment: decoding stops at

@@ -6,12 +6,20 @@
 
 #include <cmath>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <string>
 
 #include "engine/core/rng.hpp"
 #include "render/image/image.hpp"
 
 namespace grainflow::render::test {
+
+// The whole file as bytes ("" when it cannot be read).
+inline std::string slurp(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
 
 // An empty directory named after the running test.
 inline std::filesystem::path fresh_dir() {

@@ -336,6 +336,7 @@ int run_scene(const Scene& scene, const RunOptions& opt) {
   const RunFolderMode mode = opt.resume ? RunFolderMode::Resume : opt.force ? RunFolderMode::Force : RunFolderMode::Fresh;
   RunFolder folder = RunFolder::open(opt.dir, mode);
   CheckpointStore checkpoints(folder);
+  const std::uint64_t fingerprint = scene.fingerprint();  // the scene's text, hashed once a run
   const bool by_steps = scene.has(run_keys::steps);
   const double target = by_steps ? double(scene.get(run_keys::steps)) : scene.get(run_keys::until);
   auto done = [&] { return by_steps ? double(runner->steps_done()) : runner->time(); };
@@ -351,7 +352,7 @@ int run_scene(const Scene& scene, const RunOptions& opt) {
                       [&folder](std::string_view name) { folder.claim(name); }, std::nullopt};
     if (opt.resume) {
       // The state first: a checkpoint that does not fit is refused before any file changes.
-      resumed = checkpoints.read_latest(scene.engine(), scene.fingerprint());
+      resumed = checkpoints.read_latest(scene.engine(), fingerprint);
       in.emplace(resumed->payload, "checkpoint of " + folder.dir().string());
       st = load_loop(*in, record, ctx.name);
       drawing.load(*in);
@@ -427,7 +428,7 @@ int run_scene(const Scene& scene, const RunOptions& opt) {
     drawing.save(w);
     runner->save(w);
     out.checkpoint(w);
-    checkpoints.write({scene.engine(), scene.fingerprint(), runner->time(), st.frame_index, 0}, w.bytes());
+    checkpoints.write({scene.engine(), fingerprint, runner->time(), st.frame_index, 0}, w.bytes());
     checkpoint_buffer = w.take();
     record.checkpoint_seconds += seconds_since(t_start);
     ++record.checkpoints;

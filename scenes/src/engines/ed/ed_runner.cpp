@@ -402,23 +402,21 @@ private:
       return false;
     };
     auto apply = [&](auto& field, bool per_area) {
-      const auto& g = field.grid;
-      const std::vector<double>& open = open_fractions(g, solid);
-      for (int iy = 0; iy < g.ny; ++iy)
-        for (int ix = 0; ix < g.nx; ++ix) {
-          const std::size_t b = std::size_t(g.index(ix, iy));
-          if (solid(g.centre(ix, iy))) {
-            field.mask[b] = 0;
-          } else if constexpr (std::is_same_v<std::decay_t<decltype(field)>, core::ScalarField>) {
-            if (per_area && open[b] > 0.0 && open[b] < 1.0) field.values[b] /= open[b];
-          }
+      const std::vector<double>& open = open_fractions(field.grid, solid);
+      for (std::size_t b = 0; b < open.size(); ++b) {
+        if (centre_solid_[b]) {
+          field.mask[b] = 0;
+        } else if constexpr (std::is_same_v<std::decay_t<decltype(field)>, core::ScalarField>) {
+          if (per_area && open[b] > 0.0 && open[b] < 1.0) field.values[b] /= open[b];
         }
+      }
     };
     for (auto& f : s.fields) apply(f.field, f.name == "density" || f.name == "fraction");
     if (s.velocity) apply(*s.velocity, false);
   }
 
-  // The open fraction of every bin of grid g (8 × 8 points a bin), computed once per grid:
+  // The open fraction of every bin of grid g (8 × 8 points a bin), and whether its centre
+  // is solid, computed once per grid:
   // the obstacle and the filter do not move.
   template <class Solid>
   const std::vector<double>& open_fractions(const core::GridGeometry& g, Solid&& solid) {
@@ -437,7 +435,8 @@ private:
       }
       return false;
     };
-    open_.assign(std::size_t(g.nx) * std::size_t(g.ny), 0.0);
+    open_.assign(g.size(), 0.0);
+    centre_solid_.assign(g.size(), 0);
     const double wx = (g.hi.x() - g.lo.x()) / g.nx, wy = (g.hi.y() - g.lo.y()) / g.ny;
     for (int iy = 0; iy < g.ny; ++iy)
       for (int ix = 0; ix < g.nx; ++ix) {
@@ -445,7 +444,8 @@ private:
         for (int a = 0; a < k; ++a)
           for (int c = 0; c < k; ++c)
             free += !excluded(Vec2(g.lo.x() + (ix + (a + 0.5) / k) * wx, g.lo.y() + (iy + (c + 0.5) / k) * wy));
-        open_[std::size_t(g.index(ix, iy))] = double(free) / (k * k);
+        open_[g.index(ix, iy)] = double(free) / (k * k);
+        centre_solid_[g.index(ix, iy)] = solid(g.centre(ix, iy));
       }
     open_grid_ = g;
     return open_;
@@ -460,6 +460,7 @@ private:
   std::vector<std::unique_ptr<EdAgentRun>> agents_;  // the table's agents the scene switched on
   std::optional<core::GridGeometry> open_grid_;      // the grid open_ was computed for
   std::vector<double> open_;
+  std::vector<std::uint8_t> centre_solid_;  // the bin's centre is in a solid: masked
 };
 
 }  // namespace
