@@ -6,6 +6,7 @@ extern "C" {
 #include <libavutil/error.h>
 #include <libavutil/imgutils.h>
 #include <libavutil/opt.h>
+#include <libavutil/pixdesc.h>
 #include <libswscale/swscale.h>
 }
 
@@ -212,6 +213,7 @@ struct Mp4Writer::Impl {
 
   void open();
   void open_encoder();
+  AVPixelFormat pixel_format() const { return options.chroma_444 ? AV_PIX_FMT_YUV444P : AV_PIX_FMT_YUV420P; }
   void open_muxer(const std::filesystem::path& file);
   void resume();
   void sync();
@@ -275,7 +277,7 @@ void Mp4Writer::Impl::open() {
   frame = av_frame_alloc();
   packet = av_packet_alloc();
   if (!frame || !packet) fail("out of memory allocating frames");
-  frame->format = AV_PIX_FMT_YUV420P;
+  frame->format = pixel_format();
   frame->width = enc_width;
   frame->height = enc_height;
   frame->color_range = AVCOL_RANGE_MPEG;
@@ -285,9 +287,9 @@ void Mp4Writer::Impl::open() {
   int err = av_frame_get_buffer(frame, 0);
   if (err < 0) fail("cannot allocate a video frame", err);
 
-  sws = sws_getContext(enc_width, enc_height, AV_PIX_FMT_RGBA, enc_width, enc_height, AV_PIX_FMT_YUV420P,
+  sws = sws_getContext(enc_width, enc_height, AV_PIX_FMT_RGBA, enc_width, enc_height, pixel_format(),
                        SWS_BILINEAR | SWS_ACCURATE_RND, nullptr, nullptr, nullptr);
-  if (!sws) fail("swscale cannot convert RGBA to yuv420p");
+  if (!sws) fail(std::string("swscale cannot convert RGBA to ") + av_get_pix_fmt_name(pixel_format()));
   // Full-range RGB in, limited-range BT.709 YCbCr out — matching the tags above.
   const int* bt709 = sws_getCoefficients(SWS_CS_ITU709);
   sws_setColorspaceDetails(sws, bt709, 1, bt709, 0, 0, 1 << 16, 1 << 16);
@@ -305,7 +307,7 @@ void Mp4Writer::Impl::open_encoder() {
   if (!codec) fail("out of memory allocating the encoder");
   codec->width = enc_width;
   codec->height = enc_height;
-  codec->pix_fmt = AV_PIX_FMT_YUV420P;
+  codec->pix_fmt = pixel_format();
   codec->time_base = AVRational{1, options.fps};
   codec->framerate = AVRational{options.fps, 1};
   codec->sample_aspect_ratio = AVRational{1, 1};

@@ -21,6 +21,11 @@ struct Mp4Options {
   // tests/bench/bench_encode.cpp.
   std::string preset = "superfast";
   int threads = 2;  // encoder threads; the machine is shared, the renderer needs a core
+  // Full-resolution colour (yuv444p, x264's High 4:4:4 profile) for analysis copies: 4:2:0
+  // halves the chroma resolution, which smears 1-pixel disks and bin edges. With crf 0 the
+  // video is lossless. Browsers and many hardware players cannot play 4:4:4; ffmpeg, VLC
+  // and mpv can.
+  bool chroma_444 = false;
   // Resume (`grainflow run --resume`): 0 starts a new video (a .partial left by an earlier
   // run is replaced). K > 0 continues the `<path>.partial` that a killed run left: its first
   // K frames are kept, copied as packets without re-encoding, and the first frame written

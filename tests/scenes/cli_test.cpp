@@ -1024,3 +1024,40 @@ TEST(CliRun, ThermostatKeysAreCheckedBeforeTheFolderExists) {
     EXPECT_FALSE(fs::exists(out)) << b.set;
   }
 }
+
+namespace {
+
+// The frame rate a run's MP4 plays at, as an independent reader sees it.
+double video_fps(const fs::path& mp4) {
+  const auto d = grainflow::render::test::decode(mp4);
+  return d.duration_s > 0 ? double(d.frames.size()) / d.duration_s : 0.0;
+}
+
+}  // namespace
+
+TEST(CliRun, VideoLastsAboutVideoSecondsUnlessTheSceneGivesTheFrameRate) {
+  // 41 frames (t = 0, 0.5, …, 20) and output.video_seconds = 4: 10 frames/s, written into
+  // the effective scene so that a resume keeps it.
+  const std::string small = " --set system.box=[12.0,12.0] --set run.until=20.0 --set sample.exposure=0.5"
+                            " --set render.size=[64,64] --set output.video_seconds=4";
+  const fs::path out = fresh_dir("run_auto_fps");
+  const Result r = run("run " + scenes + "/disks_box.toml -o " + out.string() + small);
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_TRUE(contains(read_file(out / "scene.toml"), "fps = 10  #")) << read_file(out / "scene.toml");
+  EXPECT_NEAR(video_fps(out / "disks_box.mp4"), 10.0, 0.3);
+  // A rate the scene gives is kept.
+  const fs::path given = fresh_dir("run_given_fps");
+  const Result r2 = run("run " + scenes + "/disks_box.toml -o " + given.string() + small + " --set output.fps=25");
+  ASSERT_EQ(r2.status, 0) << r2.output;
+  EXPECT_NEAR(video_fps(given / "disks_box.mp4"), 25.0, 0.5);
+  // Long runs are capped at 60 frames/s, short ones get at least 1.
+  const fs::path slow = fresh_dir("run_slow_fps");
+  const Result r3 = run("run " + scenes + "/disks_box.toml -o " + slow.string() + small +
+                        " --set output.video_seconds=1000");
+  ASSERT_EQ(r3.status, 0) << r3.output;
+  EXPECT_TRUE(contains(read_file(slow / "scene.toml"), "fps = 1  #")) << read_file(slow / "scene.toml");
+  EXPECT_NE(run("run " + scenes + "/disks_box.toml -o " + fresh_dir("run_bad_seconds").string() + small +
+                " --set output.video_seconds=0")
+                .status,
+            0);
+}

@@ -67,7 +67,11 @@ int run_command(const RunArgs& a) {
     return run_scene(scene, opt);
   }
   if (a.scene.empty() || a.out_dir.empty()) throw Error("run needs a scene file and -o DIR (or --resume DIR)");
-  const Scene scene = load_scene(a.scene, a.overrides);
+  // A scene without output.fps gets a rate that makes its video last output.video_seconds,
+  // written into the effective scene like any --set.
+  std::vector<std::string> overrides = a.overrides;
+  if (auto fps = auto_fps_override(load_scene(a.scene, overrides))) overrides.push_back(*fps);
+  const Scene scene = load_scene(a.scene, overrides);
   opt.dir = a.out_dir;
   opt.force = a.force;
   opt.name = std::filesystem::path(a.scene).stem().string();

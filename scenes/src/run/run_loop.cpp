@@ -26,6 +26,7 @@
 #include "scenes/src/outputs/output_table.hpp"
 #include "scenes/src/outputs/run_record.hpp"
 #include "scenes/src/outputs/stats_csv.hpp"
+#include "scenes/src/outputs/video_keys.hpp"
 #include "scenes/src/run/checkpoints.hpp"
 #include "scenes/src/run/interrupt.hpp"
 #include "scenes/src/run/progress.hpp"
@@ -260,6 +261,12 @@ void declare(Schema& s) {
                  "time units")
       .at_least(0.0)
       .may_change_on_resume();
+  s.table("output")
+      .add_float(video_seconds, 10.0,
+                 "length of the MP4 when output.fps is not given: the frame rate is chosen from the number of "
+                 "frames (1 to 60 frames/s)",
+                 "s")
+      .above(0.0);
   s.add_check([](const Scene& sc, SceneCheck& c) {
     // Each frame is drawn and stored, each row written: a scene asking for 10^300 of them
     // (sample.exposure = 1e-300) is a mistake, not a run.
@@ -278,6 +285,18 @@ void declare(Schema& s) {
 }
 
 }  // namespace loop_keys
+
+std::optional<std::string> auto_fps_override(const Scene& scene) {
+  // Read even when unused, so that the key counts as consumed in every scene.
+  const double seconds = scene.get(loop_keys::video_seconds);
+  if (scene.has(video_keys::fps)) return std::nullopt;
+  const auto until = scene.find(run_keys::until);
+  if (!until) return std::nullopt;
+  // Frame 0 at t = 0, then one every exposure up to run.until.
+  const double frames = std::floor(*until / scene.get(sample_keys::exposure)) + 1.0;
+  const auto fps = std::int64_t(std::clamp(std::round(frames / seconds), 1.0, 60.0));
+  return "output.fps=" + std::to_string(fps);
+}
 
 namespace {
 

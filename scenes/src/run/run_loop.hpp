@@ -4,6 +4,7 @@
 // run.until / run.steps or Ctrl-C; every output is finished (or failed) at the end.
 #pragma once
 #include <filesystem>
+#include <optional>
 #include <string>
 
 #include "scenes/src/scene/schema.hpp"
@@ -20,6 +21,8 @@ inline constexpr Key<double> max_wall{"run.max_wall"};
 inline constexpr Key<std::int64_t> max_steps{"run.max_steps"};
 // Simulated time between checkpoints (0 = only when interrupted or at max_wall).
 inline constexpr Key<double> checkpoint_every{"output.checkpoint_every"};
+// How long the MP4 of a run should last when the scene gives no output.fps [s].
+inline constexpr Key<double> video_seconds{"output.video_seconds"};
 // Declares run.max_wall, run.max_steps, output.checkpoint_every and the bounds on frames
 // and stats rows a scene may ask for.
 void declare(Schema& s);
@@ -38,5 +41,11 @@ struct RunOptions {
 // Runs a validated scene. Returns the process status: 0 complete, 130 interrupted; throws
 // grainflow::Error when the run fails (run.json then says "failed").
 int run_scene(const Scene& scene, const RunOptions& options);
+
+// The `--set output.fps=N` that makes a fresh run's video last about output.video_seconds
+// (N = frames / video_seconds, 1..60), or nothing when the scene gives output.fps itself or
+// counts its run in run.steps (frames unknown). `grainflow run` applies it before the
+// effective scene is written, so a resume keeps the rate the video started with.
+std::optional<std::string> auto_fps_override(const Scene& scene);
 
 }  // namespace grainflow::scenes
