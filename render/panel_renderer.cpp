@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 #include "render/layers/colour_bar.hpp"
 
@@ -62,6 +63,15 @@ PixelRect projected_rect(const ViewTransform& view, const PixelRect& plot, const
   return {x0, y0, x1 - x0, y1 - y0};
 }
 
+// A length of 1, 2 or 5 × 10^k world units, at most `max_len`.
+double scale_length(double max_len) {
+  if (!(max_len > 0) || !std::isfinite(max_len)) return 0.0;
+  const double mag = std::pow(10.0, std::floor(std::log10(max_len)));
+  for (double m : {5.0, 2.0, 1.0})
+    if (m * mag <= max_len) return m * mag;
+  return mag;
+}
+
 std::string default_title(const PanelSpec& p, const Snapshot& s) {
   if (!p.title.empty()) return p.title;
   switch (p.kind) {
@@ -73,6 +83,27 @@ std::string default_title(const PanelSpec& p, const Snapshot& s) {
   return {};
 }
 }  // namespace
+
+void PanelRenderer::add_scale_bar(const PixelRect& dom, double world_width, const std::string& unit,
+                                  const PanelGeometry& g, const Rgb& ink) {
+  // Under the domain's lower-left corner, when the panel leaves room for it there: about a
+  // fifth of the domain's width, a round number of length units.
+  const int below = g.panel.bottom() - dom.bottom();
+  if (dom.w < 40 || world_width <= 0 || below < int(1.6 * g.tick_px)) return;
+  const double px_per_unit = dom.w / world_width;
+  const double len = scale_length(0.2 * world_width);
+  if (len <= 0) return;
+  const float x0 = float(dom.x), x1 = float(dom.x + len * px_per_unit);
+  const float y = float(dom.bottom() + 0.6 * g.tick_px);
+  const float cap = float(std::max(2, g.tick_px / 3));
+  add_polyline(overlay_, {{x0, y - cap, 0.f}, {x0, y, 0.f}, {x1, y, 0.f}, {x1, y - cap, 0.f}}, ink, 1.5f, 1.0f,
+               false);
+  char buf[48];
+  std::snprintf(buf, sizeof buf, "%g", len);
+  const std::string label = std::string(buf) + (unit.empty() ? "" : " " + unit);
+  text_.add(label, x1 + 0.5f * g.tick_px, y, std::max(8, int(0.85 * g.tick_px)), ink, TextAlign::left,
+            TextAnchor::middle);
+}
 
 void PanelRenderer::draw(FrameRenderer& frame, const Snapshot& s, const FrameStyle& style, const FrameLayout& layout,
                          int width, int height) {
@@ -192,12 +223,18 @@ void PanelRenderer::draw(FrameRenderer& frame, const Snapshot& s, const FrameSty
     if (!missing.empty())
       text_.add(missing, float(plot.x + 0.5 * plot.w), float(plot.y + 0.5 * plot.h), g.tick_px, ink,
                 TextAlign::centre, TextAnchor::middle);
+    if (planar || s.dim == 2) {
+      const PixelRect dom = planar ? projected_rect(view, plot, plane_lo, plane_hi)
+                                   : projected_rect(view, plot, s.lo.head<2>(), s.hi.head<2>());
+      const double world_w = planar ? plane_hi.x() - plane_lo.x() : s.hi.x() - s.lo.x();
+      add_scale_bar(dom, world_w, s.length_unit, g, ink);
+    }
     if (bar && spec.colour_bar) {
       // Beside the drawn domain, as tall as it, leaving room for the label above.
       const PixelRect dom = planar ? projected_rect(view, plot, plane_lo, plane_hi)
                                    : projected_rect(view, plot, s.lo.head<2>(), s.hi.head<2>());
       const int gap = std::max(4, int(0.7 * g.tick_px));
-      const int top = std::max(dom.y, plot.y + int(1.5 * g.tick_px));
+      const int top = std::max(dom.y, plot.y + int(2.4 * g.tick_px));  // room for a clip triangle and the label
       const int bottom = std::min(dom.bottom(), g.panel.bottom() - g.tick_px / 2);
       const int x = planar || s.dim == 2 ? std::min(dom.right(), plot.right()) + gap : plot.right() + gap;
       bar->rect = {x, top, std::max(6, int(std::lround(0.9 * g.tick_px))), bottom - top};

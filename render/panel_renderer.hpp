@@ -47,6 +47,10 @@ private:
 
   // |v − reference| on the velocity grid; invalid where v is masked or not finite.
   const core::ScalarField& speed_field(const core::VectorField& v, const Vec2& reference);
+  // A scale bar of a round length under the drawn domain `dom` (frame pixels), whose world
+  // width is `world_width` in `unit`: the frames' axes in σ (ED) or m (DEM).
+  void add_scale_bar(const PixelRect& dom, double world_width, const std::string& unit, const PanelGeometry& g,
+                     const Rgb& ink);
 
   const GlApi& gl_;
   TextRenderer text_;

@@ -42,6 +42,8 @@ struct Snapshot {
   bool attribute_categorical = false; // integer categories (species, type)
   std::vector<Circle> obstacles;      // 2D solid circles drawn on top
   double time = 0;
+  std::string time_unit;              // for the caption ("s"); empty in reduced units
+  std::string length_unit;            // for the scale bars ("σ", "m"); empty when unknown
 
   // Binned fields. All fields, scalar and vector, lie on the same GridGeometry; a bin with
   // mask 0 (empty, solid) or a NaN/inf value is drawn in Colormap::kNanColour.

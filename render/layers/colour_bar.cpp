@@ -79,9 +79,10 @@ void draw_colour_bar(FieldMapLayer& fields, const ViewTransform& pixel, const Pi
     text.add(format_tick(v, step), float(x1 + style.tick_px + 3), y, style.font_px, style.ink, TextAlign::left,
              TextAnchor::middle);
   }
+  // Above the strip, and above the clip triangle when there is one.
   if (!label.empty())
-    text.add(label, float(x0), float(y_top - 0.45 * style.font_px), style.font_px, style.ink, TextAlign::left,
-             TextAnchor::baseline);
+    text.add(label, float(x0), float(y_top - 0.45 * style.font_px - (clipped.above ? tri + 1.0 : 0.0)),
+             style.font_px, style.ink, TextAlign::left, TextAnchor::baseline);
 }
 
 }  // namespace grainflow::render

@@ -4,12 +4,18 @@
 
 namespace grainflow::scenes {
 
-void set_binned_fields(core::BinnedFields f, render::Snapshot& s) {
+namespace {
+std::string with_unit(std::string label, const std::string& unit) {
+  return unit.empty() ? label : label + " [" + unit + "]";
+}
+}  // namespace
+
+void set_binned_fields(core::BinnedFields f, render::Snapshot& s, const FieldUnits& units) {
   s.fields.clear();
-  s.fields.push_back({"density", "n", std::move(f.density)});
+  s.fields.push_back({"density", with_unit("n", units.density), std::move(f.density)});
   if (f.fraction) s.fields.push_back({"fraction", "area/solid fraction", std::move(*f.fraction)});
-  if (f.temperature) s.fields.push_back({"temperature", "kT", std::move(*f.temperature)});
-  if (f.mean_speed) s.fields.push_back({"speed", "<|v|>", std::move(*f.mean_speed)});
+  if (f.temperature) s.fields.push_back({"temperature", with_unit("kT", units.temperature), std::move(*f.temperature)});
+  if (f.mean_speed) s.fields.push_back({"speed", with_unit("<|v|>", units.speed), std::move(*f.mean_speed)});
   if (f.mean_velocity) s.velocity = std::move(*f.mean_velocity);
   else s.velocity.reset();
 }

@@ -2,11 +2,21 @@
 // field panels. The one mapping of field names used by `render` and `run`: "density",
 // "temperature" (kT), "speed" (<|v|>), "fraction", and the mean velocity.
 #pragma once
+#include <string>
+
 #include "engine/core/binning.hpp"
 #include "render/snapshot.hpp"
 
 namespace grainflow::scenes {
 
-void set_binned_fields(core::BinnedFields fields, render::Snapshot& s);
+// The units the colour bars name ("n [σ⁻²]"); empty: none shown (reduced units, or a
+// particle file whose units are unknown).
+struct FieldUnits {
+  std::string density;      // number per unit bin area (3D: projected on the plane)
+  std::string temperature;  // kT, an energy
+  std::string speed;
+};
+
+void set_binned_fields(core::BinnedFields fields, render::Snapshot& s, const FieldUnits& units = {});
 
 }  // namespace grainflow::scenes

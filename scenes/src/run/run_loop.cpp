@@ -48,7 +48,9 @@ render::Rgb parse_colour(const std::string& hex) {
 // The caption line under the panels: title, time, N, exposure, stream velocity.
 std::string caption(const std::string& title, double exposure, const render::Snapshot& s) {
   char buf[256];
-  std::snprintf(buf, sizeof buf, "t = %.4g   N = %zu   τ_E = %g", s.time, s.size(), exposure);
+  const std::string unit = s.time_unit.empty() ? "" : " " + s.time_unit;
+  std::snprintf(buf, sizeof buf, "t = %.4g%s   N = %zu   τ_E = %g%s", s.time, unit.c_str(), s.size(), exposure,
+                unit.c_str());
   std::string text = buf;
   if (s.reference_velocity) {
     std::snprintf(buf, sizeof buf, "   U = %g", s.reference_velocity->norm());

@@ -297,6 +297,8 @@ public:
     s.hi = b.hi;
     s.periodic = b.periodic;
     s.time = sim_.time();
+    s.time_unit = "s";
+    s.length_unit = "m";
     const std::size_t n = sim_.size();
     s.pos_radius.resize(4 * n);
     s.attribute.clear();
@@ -321,7 +323,8 @@ public:
       f.mean_velocity = fields_.mean_velocity();
       f.temperature = fields_.temperature();
       f.mean_speed = fields_.mean_speed();
-      set_binned_fields(std::move(f), s);
+      // SI: kT = m<C²>/3 with the masses in kg (core::BinAccumulator::temperature).
+      set_binned_fields(std::move(f), s, {"m⁻²", "J", "m/s"});
       fields_.reset();
     }
   }

@@ -197,6 +197,7 @@ public:
     s.hi = {cfg.lx, cfg.ly, 0};
     s.periodic = {cfg.periodic_x, cfg.periodic_y, false};
     s.time = sim_.time();
+    s.length_unit = "σ";
     const auto& disks = sim_.disks();
     // Slots of disks that left an open stream are empty: only present disks are drawn.
     const std::size_t count = std::size_t(sim_.count());
@@ -223,7 +224,8 @@ public:
     // The exposure that ended most recently; none yet at the first frame.
     auto exposures = sampler_->take_frames();
     if (!exposures.empty()) {
-      set_binned_fields(std::move(exposures.back().fields), s);
+      // Reduced units (σ = m = 1, seed 003): only the density's unit says something.
+      set_binned_fields(std::move(exposures.back().fields), s, {"σ⁻²", "", ""});
       mask_solid_bins(s);
     }
     if (cfg.stream.x() != 0 || cfg.stream.y() != 0) s.reference_velocity = Eigen::Vector2d(cfg.stream.x(), cfg.stream.y());
