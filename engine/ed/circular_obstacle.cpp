@@ -3,8 +3,12 @@
 #include <algorithm>
 #include <cmath>
 
+#include <fmt/format.h>
+
+#include "engine/core/error.hpp"
 #include "engine/ed/checkpoint.hpp"
 #include "engine/ed/system_state.hpp"
+#include "engine/ed/thermal_wall.hpp"
 
 namespace grainflow::ed {
 
@@ -42,11 +46,9 @@ void CircularObstacle::action(SystemState& s, int i) {
       if (rng_.uniform() < 0.5) vt1 = -vt;
       break;
     case ObstacleBoundary::thermal: {
-      // Diffuse re-emission from a wall at kT_b: the flux-weighted normal speed has the
-      // Rayleigh density (m v/kT) exp(−m v²/2kT), the tangential one is Gaussian.
-      const double s2 = cfg_.kT / s.disk[i].m;
-      vn1 = std::sqrt(-2.0 * s2 * std::log(rng_.uniform_pos()));
-      vt1 = std::sqrt(s2) * rng_.normal();
+      const WallFrameVelocity v = thermal_reemission(rng_, cfg_.kT, s.disk[i].m);
+      vn1 = v.normal;
+      vt1 = v.tangential;
       break;
     }
   }
@@ -56,17 +58,28 @@ void CircularObstacle::action(SystemState& s, int i) {
   s.set_velocity(i, vx, vy);
 }
 
-// Its random stream and the momentum and hits it has received (the drag measurement).
+void CircularObstacle::set_restitution(double r) {
+  if (!(r >= 0.0 && r <= 1.0))
+    throw Error(fmt::format("ed: obstacle restitution = {} is invalid; allowed: 0 <= r <= 1", r));
+  cfg_.restitution = r;
+}
+
+// Its random stream, the momentum and hits it has received (the drag measurement), and
+// its restitution (a phase may change it).
 void CircularObstacle::save(io::ArchiveWriter& w) const {
   w.rng(rng_);
   checkpoint::write_vec2(w, impulse_);
   w.pod(hits_);
+  w.pod(cfg_.restitution);
 }
 
 void CircularObstacle::load(io::ArchiveReader& r) {
   r.rng(rng_);
   impulse_ = checkpoint::read_vec2(r);
   r.pod(hits_);
+  const double e = r.get<double>();
+  if (!(e >= 0.0 && e <= 1.0)) r.corrupt(fmt::format("the obstacle's restitution is {}", e));
+  cfg_.restitution = e;
 }
 
 }  // namespace grainflow::ed

@@ -34,6 +34,9 @@ public:
   void load(io::ArchiveReader& r) override;
 
   const ObstacleConfig& config() const { return cfg_; }
+  // The surface's restitution from now on (phased runs; [0, 1], else grainflow::Error).
+  // No prediction depends on it. A checkpoint keeps it.
+  void set_restitution(double r);
   // Total momentum received from the disks since construction (drag = its rate).
   Vec2 impulse() const { return impulse_; }
   std::uint64_t hits() const { return hits_; }

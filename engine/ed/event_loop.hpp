@@ -60,6 +60,7 @@ public:
       if (s_.present(i)) predict_full(i);
     s_.clear_changes();
     s_.clear_touched();
+    s_.clear_rescheduled();  // every timer is asked below
     for (int a = 0; a < nt; ++a) s_.event[n + a].key = std::max(s_.now(), s_.timers[a]->event_time(s_));
     cal_.reset(s_.calendar_keys(), &s_.grid, n, nt);
   }
@@ -307,6 +308,7 @@ private:
       cal_.update(i);
     }
     repredict_touched(i);
+    reschedule_timers();
   }
 
   void timer_event(int a) {
@@ -318,6 +320,18 @@ private:
     s_.event[e].key = std::max(s_.now(), ag.event_time(s_));
     cal_.update(e);
     repredict_touched(-1);
+    reschedule_timers();
+  }
+
+  // Timers another agent switched (SystemState::reschedule) are asked for their time again.
+  void reschedule_timers() {
+    if (s_.rescheduled().empty()) [[likely]] return;
+    for (int b : s_.rescheduled()) {
+      const int e = s_.size() + b;
+      s_.event[e].key = std::max(s_.now(), s_.timers[b]->event_time(s_));
+      cal_.update(e);
+    }
+    s_.clear_rescheduled();
   }
 
   void repredict_touched(int skip) {
@@ -331,9 +345,11 @@ private:
 
   // Disks added, removed, frozen or re-velocitied between runs (not by an agent's action).
   void settle_outside_actions() {
-    if (s_.grown() || !s_.added().empty() || !s_.removed().empty() || !s_.touched().empty()) {
+    if (s_.grown() || !s_.added().empty() || !s_.removed().empty() || !s_.touched().empty() ||
+        !s_.rescheduled().empty()) {
       settle_changes();
       repredict_touched(-1);
+      reschedule_timers();
       cal_.commit();
     }
   }

@@ -194,6 +194,14 @@ std::vector<int> Simulation::cell_order() const {
   return order;
 }
 
+ElasticWalls* Simulation::walls() {
+  for (auto& a : s_.agents)
+    if (auto* w = dynamic_cast<ElasticWalls*>(a.get())) return w;
+  return nullptr;
+}
+
+const ElasticWalls* Simulation::walls() const { return const_cast<Simulation*>(this)->walls(); }
+
 CircularObstacle& Simulation::add_obstacle(const ObstacleConfig& o) {
   const double margin = std::max(s_.grid.width(), s_.grid.height());
   const Vec2 c = o.centre;

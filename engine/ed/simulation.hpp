@@ -10,6 +10,7 @@
 
 #include "engine/core/vec.hpp"
 #include "engine/ed/circular_obstacle.hpp"
+#include "engine/ed/elastic_walls.hpp"
 #include "engine/ed/event_loop.hpp"
 #include "engine/ed/initial_state.hpp"
 #include "engine/ed/system_state.hpp"
@@ -92,6 +93,11 @@ public:
   T& emplace_timer(Args&&... args) {
     return static_cast<T&>(*add_timer(std::make_unique<T>(std::forward<Args>(args)...)));
   }
+
+  // The box walls the non-periodic, non-open axes got at construction (nullptr: none),
+  // e.g. to configure their surface and velocity (planar Couette flow) before running.
+  ElasticWalls* walls();
+  const ElasticWalls* walls() const;
 
   // Places a fixed circular obstacle, removing the disks it overlaps. Throws
   // grainflow::Error when it does not lie inside the box with a cell's margin.

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <climits>
 #include <cmath>
+#include <stdexcept>
 #include <type_traits>
 
 #include <fmt/format.h>
@@ -216,7 +217,18 @@ static_assert(sizeof(OverlapRemoval) == 5 * 8 && std::is_trivially_copyable_v<Ov
 
 }  // namespace
 
+void SystemState::reschedule(const TimerAgent* t) {
+  for (std::size_t a = 0; a < timers.size(); ++a)
+    if (timers[a].get() == t) {
+      rescheduled_.push_back(static_cast<int>(a));
+      return;
+    }
+  throw std::logic_error("SystemState::reschedule: not a timer of this simulation");
+}
+
 void SystemState::save(io::ArchiveWriter& w) const {
+  // Nothing records a pending reschedule: the loop settles them within the action.
+  if (!rescheduled_.empty()) throw std::logic_error("SystemState::save with timers to reschedule pending");
   w.tag("ed.state");
   w.pod(now_);
   w.pod(kin_);

@@ -105,6 +105,13 @@ public:
   // Asks the loop to re-predict disk i after the current action without changing it (an
   // agent that moved, e.g. the dispenser piston jumping back).
   void repredict(int i) { touched_.push_back(i); }
+  // Asks the loop to ask timer `t` (one of `timers`) for its next time again after the
+  // current action: an agent that switched another on or off (a phase turning the
+  // thermostat on). Callable from inside an agent's or timer's action, or between runs
+  // (settled when the next run starts; a checkpoint must not be taken in between).
+  void reschedule(const TimerAgent* t);
+  const std::vector<int>& rescheduled() const { return rescheduled_; }
+  void clear_rescheduled() { rescheduled_.clear(); }
   // Diameters a disk added later may have: the cell map was sized for [min, max].
   void set_diameter_range(double dmin, double dmax) { dmin_ = dmin; dmax_ = dmax; }
   // Fills the slot bookkeeping for size() disks (called by the builder): all present, or
@@ -277,6 +284,7 @@ private:
   int n_present_ = 0, n_frozen_ = 0;
   double dmin_ = 0.0, dmax_ = kNever;
   std::vector<int> touched_, free_, added_;
+  std::vector<int> rescheduled_;  // timers to ask again (reschedule)
   std::vector<Removal> removed_;
   bool grown_ = false;
   bool events_ready_ = false;  // the loop has started: event holds an entry per slot and timer

@@ -72,13 +72,26 @@ double Thermostat::sample_time() const {
   return t_start_ + static_cast<double>(k_ + 1) * cfg_.sample_interval;
 }
 
-double Thermostat::event_time(const SystemState&) const { return std::min(sample_time(), next_); }
+double Thermostat::event_time(const SystemState&) const {
+  return active_ ? std::min(sample_time(), next_) : sample_time();
+}
+
+void Thermostat::set_active(bool on, SystemState& s) {
+  if (on && !active_) draw_next(s);
+  active_ = on;
+  s.reschedule(this);
+}
+
+void Thermostat::set_temperature(double kT) {
+  require_positive("T", kT, "temperature");
+  cfg_.kT = kT;
+}
 
 void Thermostat::action(SystemState& s) {
   const double t = s.now();
   // A sample due at the same time as an event is taken first.
   if (sample_time() <= t) sample(s);
-  if (next_ <= t) {
+  if (active_ && next_ <= t) {
     kick(s);
     draw_next(s);
   }
@@ -206,6 +219,8 @@ void Thermostat::save(io::ArchiveWriter& w) const {
   w.pod(events_);
   w.pod(unpaired_);
   w.pod(energy_);
+  w.flag(active_);
+  w.pod(cfg_.kT);
 }
 
 void Thermostat::load(io::ArchiveReader& r) {
@@ -233,6 +248,9 @@ void Thermostat::load(io::ArchiveReader& r) {
   r.pod(events);
   r.pod(unpaired);
   r.pod(energy);
+  const bool active = r.flag("the thermostat's on/off flag");
+  const double kT = r.get<double>();
+  if (!(kT > 0.0)) r.corrupt(fmt::format("the thermostat's temperature is {}", kT));
   if (k < 0) r.corrupt(fmt::format("the thermostat took {} samples", k));
   t_start_ = t_start;
   k_ = k;
@@ -243,6 +261,8 @@ void Thermostat::load(io::ArchiveReader& r) {
   events_ = events;
   unpaired_ = unpaired;
   energy_ = energy;
+  active_ = active;
+  cfg_.kT = kT;
 }
 
 }  // namespace grainflow::ed

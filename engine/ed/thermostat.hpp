@@ -106,10 +106,20 @@ public:
   std::string_view name() const override { return "thermostat"; }
   double event_time(const SystemState& state) const override;
   void action(SystemState& state) override;
-  // The next event's time, the sample clock, the random stream, the averaged bins and the
-  // counters.
+  // The next event's time, the sample clock, the random stream, the averaged bins, the
+  // counters, and what a phase may change: on/off and T_th.
   void save(io::ArchiveWriter& w) const override;
   void load(io::ArchiveReader& r) override;
+
+  // Phased runs (seed 003 ch. 5–6: elastic first, then the inelastic gas thermostatted).
+  // Off: no velocity is changed, but the local field is still sampled (single), so that
+  // the averages are ready when it is switched on; on again: the next event is drawn from
+  // now (the process is memoryless). Asks the loop to reschedule this timer. Call from
+  // inside an action (a phase) or between runs.
+  void set_active(bool on, SystemState& state);
+  bool active() const { return active_; }
+  // T_th from now on (> 0, else grainflow::Error).
+  void set_temperature(double kT);
 
   const ThermostatConfig& config() const { return cfg_; }
   std::uint64_t events() const { return events_; }      // events that changed velocities
@@ -141,6 +151,7 @@ private:
   std::vector<int> partners_;                   // dual candidates (scratch)
   std::uint64_t events_ = 0, unpaired_ = 0;
   double energy_ = 0.0;
+  bool active_ = true;
 };
 
 }  // namespace grainflow::ed

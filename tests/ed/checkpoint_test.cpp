@@ -27,6 +27,7 @@
 #include "engine/ed/elastic_walls.hpp"
 #include "engine/ed/field_sampler.hpp"
 #include "engine/ed/low_density_stream.hpp"
+#include "engine/ed/phase_timer.hpp"
 #include "engine/ed/simulation.hpp"
 #include "engine/ed/thermostat.hpp"
 #include "tests/ed/churn.hpp"
@@ -470,6 +471,90 @@ TEST(EdCheckpoint, ThermostatDualInTheBox) { check_thermostat(ed::ThermostatKind
 TEST(EdCheckpoint, ThermostatGlobalInTheBox) { check_thermostat(ed::ThermostatKind::global, false); }
 TEST(EdCheckpoint, ThermostatSingleInTheDenseStream) { check_thermostat(ed::ThermostatKind::single, true); }
 TEST(EdCheckpoint, ThermostatDualInTheDenseStream) { check_thermostat(ed::ThermostatKind::dual, true); }
+
+// ---- phased runs and moving walls --------------------------------------------------------
+// Couette walls (thermal, moving), a flip obstacle, the thermostat, and three phases: at
+// t = 10 inelastic (e, obstacle r) with the thermostat off, at t = 30 the thermostat on at
+// another T. Saved between the phases or before the first, continued across them.
+namespace {
+
+struct PhasedHandles {
+  ed::PhaseTimer* phases = nullptr;
+  ed::ElasticWalls* walls = nullptr;
+};
+
+Builder phased_builder(PhasedHandles* ph) {
+  return [ph](Handles& h) {
+    ed::Config c = box_config(ed::CalendarKind::bucket);
+    c.area_fraction = 0.5;
+    c.periodic_y = false;
+    c.mu = 0.0;
+    c.tau_tc = 1e-4;
+    c.tau_tc_step = 1e-4;
+    auto sim = std::make_unique<ed::Simulation>(c);
+    h.sampler = &sim->emplace_timer<ed::FieldSampler>(sampler_config(30.0, 30.0, 6, 6, 0.5, 10.0), sim->time());
+    ed::WallConfig wc;
+    wc.surface = ed::WallSurface::thermal;
+    wc.kT = 0.02;
+    wc.u_low = -0.1;
+    wc.u_high = 0.1;
+    wc.seed = 17;
+    sim->walls()->configure(wc);
+    ed::ObstacleConfig oc;
+    oc.centre = {15.0, 15.0};
+    oc.radius = 3.0;
+    oc.boundary = ed::ObstacleBoundary::flip;
+    oc.seed = 5;
+    h.obstacle = &sim->add_obstacle(oc);
+    h.thermostat = &sim->emplace_timer<ed::Thermostat>(thermostat_config(ed::ThermostatKind::single, 30.0, 30.0, 9),
+                                                       sim->state());
+    ed::Simulation* s = sim.get();
+    ed::CircularObstacle* o = h.obstacle;
+    ed::Thermostat* th = h.thermostat;
+    auto& timer = sim->emplace_timer<ed::PhaseTimer>(
+        std::vector<double>{10.0, 30.0},
+        [s, o, th](ed::SystemState& st, std::size_t k) {
+          if (k == 0) {
+            s->set_restitution(0.9);
+            o->set_restitution(0.8);
+            th->set_active(false, st);
+          } else {
+            th->set_temperature(0.04);
+            th->set_active(true, st);
+          }
+        },
+        sim->time());
+    if (ph) {
+      ph->phases = &timer;
+      ph->walls = sim->walls();
+    }
+    return sim;
+  };
+}
+
+void check_phased(double t1) {
+  const double t2 = 41.0;
+  Restart r = restart(phased_builder(nullptr), t1, t2, 3.0);
+  expect_restart_is_exact(r);
+  EXPECT_EQ(bits(r.a->restitution()), bits(0.9));
+  EXPECT_EQ(bits(r.hc.obstacle->config().restitution), bits(0.8));
+  EXPECT_TRUE(r.hc.thermostat->active());
+  EXPECT_EQ(bits(r.hc.thermostat->config().kT), bits(0.04));
+  EXPECT_EQ(r.ha.thermostat->events(), r.hc.thermostat->events());
+  EXPECT_EQ(bits(r.ha.thermostat->energy()), bits(r.hc.thermostat->energy()));
+  const ed::ElasticWalls *wa = r.a->walls(), *wc = r.c->walls();
+  for (auto w : {ed::wall_y_low, ed::wall_y_high}) {
+    EXPECT_GT(wa->hits(w), 100u);
+    EXPECT_EQ(wa->hits(w), wc->hits(w));
+    EXPECT_EQ(bits(wa->momentum_given(w).x()), bits(wc->momentum_given(w).x()));
+    EXPECT_EQ(bits(wa->energy_given(w)), bits(wc->energy_given(w)));
+  }
+}
+
+}  // namespace
+
+TEST(EdCheckpoint, PhasedRunWithMovingWallsSavedBetweenPhases) { check_phased(23.3); }
+TEST(EdCheckpoint, PhasedRunWithMovingWallsSavedBeforeTheFirstPhase) { check_phased(7.7); }
 
 TEST(EdCheckpoint, RefusesAThermostatOfAnotherKindOrGrid) {
   Handles h;

@@ -115,6 +115,17 @@ std::vector<Case> cases(const fs::path& dir) {
       // The thermostat's keys are read only when [thermostat] is on.
       {kEd + kRender + "[thermostat]\nkind = \"single\"\nT = 1.2\ntau = 1.0\ntau_v = 2.0\nbin = 4.0\n",
        {"system.area_fraction=0.3", "output.png=false", "output.mp4=false"}},
+      // The walls' and the phases' keys are read only with walls in y and [[phase]] tables.
+      {kEd + kRender + "[boundary.walls]\nkind = \"noslip_thermal\"\nkT = 1.0\nU = [-0.1, 0.1]\n"
+                       "[boundary.obstacle]\nD = 4.0\nx = 12.0\ny = 12.0\nkind = \"noslip_flip\"\n"
+                       "[thermostat]\n"
+                       "[[phase]]\nat = 0.0\nthermostat = false\n"
+                       "[[phase]]\nat = 0.5\nlabel = \"inelastic\"\ne = 0.9\nobstacle_r = 0.8\n"
+                       "thermostat = true\nthermostat_T = 1.5\n",
+       {"system.area_fraction=0.3", "boundary.periodic=[true, false]", "system.tau_tc=1e-4", "output.png=false",
+        "output.mp4=false"}},
+      {kEd + kRender + "[boundary.walls]\nkind = \"noslip_flip\"\nr = 0.9\n",
+       {"system.area_fraction=0.3", "boundary.periodic=[true, false]", "output.png=false", "output.mp4=false"}},
       {kDem + kRender, {"system.initial.kind=\"lattice\"", "output.particles=true", "render.color_by=\"group\"",
                         "render.layout=[2, 1]", "render.panels=[\"density\", \"temperature\"]",
                         "render.ranges.density=[0.0, 1.0]"}},

@@ -12,6 +12,7 @@
 #include <fstream>
 #include <iterator>
 #include <map>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -800,6 +801,80 @@ TEST(CliRun, KilledEdStreamResumesToTheSameBits) {
                                "run " + scenes + "/obstacle_quick.toml --set run.until=160 --set sample.exposure=8 "
                                "--set output.checkpoint_every=16 --set render.size=[160,96] --set output.particles=true",
                                SIGKILL, "obstacle_quick.mp4");
+}
+
+TEST(CliRun, KilledPhasedCouetteRunResumesAcrossPhasesToTheSameBits) {
+  // Moving thermal walls, a flip obstacle, the thermostat and four phases, one before the
+  // second checkpoint (t = 20), where the run is killed, three after it: the resumed run
+  // crosses them. stats.csv records the phase and the values; the captions say them.
+  const fs::path dir = fresh_dir("resume_phases_scene");
+  const fs::path scene = dir / "phased.toml";
+  write_file(scene, R"([run]
+engine = "ed"
+until = 120.0
+seed = 4
+[system]
+box = [60.0, 60.0]
+area_fraction = 0.5
+kT = 0.02
+tau_tc = 1e-4
+tau_tc_step = 1e-4
+[boundary]
+periodic = [true, false]
+[boundary.walls]
+kind = "noslip_thermal"
+U = [-0.1, 0.1]
+[boundary.obstacle]
+D = 10.0
+x = 30.0
+y = 30.0
+kind = "noslip_flip"
+[thermostat]
+tau = 3.48
+tau_v = 12.0
+bin = 6.0
+[[phase]]
+at = 5.0
+thermostat = false
+[[phase]]
+at = 25.0
+label = "inelastic"
+e = 0.9
+obstacle_r = 0.9
+[[phase]]
+at = 70.0
+thermostat = true
+thermostat_T = 0.03
+[[phase]]
+at = 95.0
+e = 1.0
+[sample]
+exposure = 8.0
+bins = [10, 10]
+[render]
+size = [160, 120]
+)");
+  expect_kill_and_resume_match("resume_phases", "run " + scene.string() + " --set output.checkpoint_every=10",
+                               SIGKILL, "phased.mp4");
+  // The values in effect at the end of each row: rows at t = 32 and t = 120.
+  std::istringstream csv(read_file(fs::path(GRAINFLOW_TEST_OUT) / "cli" / "resume_phases_killed" / "stats.csv"));
+  std::string header, line;
+  std::getline(csv, header);
+  ASSERT_TRUE(contains(header, ",phase,e,obstacle_r,thermostat_on,thermostat_T,")) << header;
+  auto field = [](const std::string& row, std::size_t k) {
+    std::size_t b = 0;
+    for (std::size_t i = 0; i < k; ++i) b = row.find(',', b) + 1;
+    return row.substr(b, row.find(',', b) - b);
+  };
+  const std::size_t phase_col = std::size_t(std::count(header.begin(), header.begin() + long(header.find(",phase,")) + 1, ','));
+  std::map<std::string, std::string> at;
+  while (std::getline(csv, line)) {
+    std::string v;
+    for (std::size_t k = 0; k < 5; ++k) v += field(line, phase_col + k) + " ";
+    at[field(line, 0)] = v;
+  }
+  EXPECT_EQ(at["32"], "2 0.9 0.9 0 0.02 ");
+  EXPECT_EQ(at["120"], "4 1 0.9 1 0.03 ");
 }
 
 TEST(CliRun, InterruptedDemBedResumesToTheSameBits) {

@@ -349,3 +349,86 @@ TEST(SceneValidation, MessagesStayShortForHugeInput) {
     EXPECT_EQ(e.issues().size(), 32u);  // every problem is still in the list a program reads
   }
 }
+
+// ---- [[phase]] and [boundary.walls] -------------------------------------------------------
+namespace {
+constexpr const char* kPhased = R"([run]
+engine = "ed"
+until = 100.0
+[system]
+area_fraction = 0.5
+box = [40.0, 40.0]
+[[phase]]
+at = 10.0
+e = 0.9
+)";
+}  // namespace
+
+TEST(SceneValidation, PhasesAreValidated) {
+  EXPECT_TRUE(issues_of(kPhased).empty());
+  {
+    const auto i = only_issue(std::string(kPhased) + "[[phase]]\nat = 10.0\ne = 0.8\n");
+    EXPECT_EQ(i.key, "phase[1].at");
+    EXPECT_EQ(i.location, "t.toml:11:6");
+    EXPECT_NE(i.message.find("does not come after phase[0].at = 10.0"), std::string::npos) << i.message;
+  }
+  {
+    const auto i = only_issue(std::string(kPhased) + "[[phase]]\nat = 20.0\nrestitution = 0.8\n");
+    EXPECT_EQ(i.key, "phase[1].restitution");
+    EXPECT_EQ(i.location, "t.toml:12:1");
+    EXPECT_NE(i.message.find("unknown key"), std::string::npos) << i.message;
+  }
+  {
+    const auto i = only_issue(std::string(kPhased) + "[[phase]]\nat = 20.0\n");
+    EXPECT_NE(i.message.find("phase[1] changes nothing"), std::string::npos) << i.message;
+    EXPECT_EQ(i.location, "t.toml:11:6");
+  }
+  {
+    const auto i = only_issue(std::string(kPhased) + "[[phase]]\nat = 20.0\nobstacle_r = 0.9\n");
+    EXPECT_EQ(i.key, "phase[1].obstacle_r");
+    EXPECT_EQ(i.location, "t.toml:12:14");
+    EXPECT_NE(i.message.find("needs an obstacle"), std::string::npos) << i.message;
+  }
+  {
+    const auto v = issues_of(std::string(kPhased) + "[[phase]]\nat = 20.0\nthermostat = true\nthermostat_T = 0.03\n");
+    ASSERT_EQ(v.size(), 2u);
+    EXPECT_EQ(v[0].key, "phase[1].thermostat");
+    EXPECT_NE(v[0].message.find("needs a thermostat"), std::string::npos) << v[0].message;
+    EXPECT_EQ(v[1].key, "phase[1].thermostat_T");
+  }
+  {
+    const auto i = only_issue(std::string(kPhased) + "[[phase]]\nat = -1.0\ne = 0.8\n");
+    EXPECT_EQ(i.key, "phase[1].at");
+  }
+  {
+    const auto i = only_issue(std::string(kPhased) +
+                              "[boundary.obstacle]\nx = 20.0\ny = 20.0\nD = 8.0\nkind = \"noslip_thermal\"\n"
+                              "[[phase]]\nat = 20.0\nobstacle_r = 0.9\n");
+    EXPECT_NE(i.message.find("not used by boundary.obstacle.kind = \"noslip_thermal\""), std::string::npos)
+        << i.message;
+  }
+}
+
+TEST(SceneValidation, WallsAreValidated) {
+  const std::string walls = std::string(kMinimalEd) + "[boundary.walls]\nkind = \"noslip_thermal\"\nU = [-0.1, 0.1]\n";
+  {
+    const auto i = only_issue(walls);  // both axes periodic: no walls
+    EXPECT_EQ(i.key, "boundary.walls.kind");
+    EXPECT_NE(i.message.find("describes walls the box does not have"), std::string::npos) << i.message;
+  }
+  EXPECT_TRUE(issues_of(walls + "[boundary]\nperiodic = [true, false]\n").empty());
+  {
+    const auto i = only_issue(walls + "[boundary]\nperiodic = [false, true]\n");
+    EXPECT_EQ(i.key, "boundary.walls.U");
+    EXPECT_NE(i.message.find("moves walls in y, which the box does not have"), std::string::npos) << i.message;
+  }
+  {
+    const auto i = only_issue(walls + "r = 0.9\n[boundary]\nperiodic = [true, false]\n");
+    EXPECT_EQ(i.key, "boundary.walls.r");
+  }
+  {
+    const auto i = only_issue(std::string(kMinimalEd) + "[boundary]\nperiodic = [true, false]\n[boundary.walls]\nkT = 0.1\n");
+    EXPECT_EQ(i.key, "boundary.walls.kT");
+    EXPECT_NE(i.message.find("only by kind = \"noslip_thermal\""), std::string::npos) << i.message;
+  }
+}

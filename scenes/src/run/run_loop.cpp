@@ -45,7 +45,8 @@ render::Rgb parse_colour(const std::string& hex) {
   return {byte(0), byte(1), byte(2)};
 }
 
-// The caption line under the panels: title, time, N, exposure, stream velocity.
+// The caption line under the panels: title, time, N, exposure, stream velocity, then the
+// engine's labels (the phase in effect).
 std::string caption(const std::string& title, double exposure, const render::Snapshot& s) {
   char buf[256];
   const std::string unit = s.time_unit.empty() ? "" : " " + s.time_unit;
@@ -56,6 +57,7 @@ std::string caption(const std::string& title, double exposure, const render::Sna
     std::snprintf(buf, sizeof buf, "   U = %g", s.reference_velocity->norm());
     text += buf;
   }
+  for (const auto& [k, v] : s.labels) text += "   " + k + " = " + v;
   return title.empty() ? text : title + "   " + text;
 }
 

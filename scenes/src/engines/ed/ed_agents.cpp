@@ -7,13 +7,17 @@ namespace grainflow::scenes {
 // Each agent's row, defined in its own file in agents/.
 EdAgentEntry obstacle_agent();
 EdAgentEntry stream_agent();
+EdAgentEntry walls_agent();
 EdAgentEntry thermostat_agent();
+EdAgentEntry phases_agent();
 
 std::span<const EdAgentEntry> ed_agents() {
   // Attached in this order; the obstacle's key table precedes the stream's in scene.toml.
-  // The thermostat comes last: it draws its first waiting time with the disks the obstacle
-  // and the stream boundaries left.
-  static const std::array<EdAgentEntry, 3> table = {obstacle_agent(), stream_agent(), thermostat_agent()};
+  // The walls only configure the box walls the simulation built (no disk changes). The
+  // thermostat draws its first waiting time with the disks the obstacle and the stream
+  // boundaries left. The phases come last, after every agent they may change.
+  static const std::array<EdAgentEntry, 5> table = {obstacle_agent(), stream_agent(), walls_agent(),
+                                                    thermostat_agent(), phases_agent()};
   return table;
 }
 

@@ -41,6 +41,8 @@ public:
   // stats.csv columns, and their values over the window of `duration` since the last row.
   virtual std::vector<std::string> stats_columns() const { return {}; }
   virtual void stats_row(double /*duration*/, std::vector<double>& /*row*/) {}
+  // "key = value" pairs for the frame's caption (the phase in effect).
+  virtual void labels(std::vector<std::pair<std::string, std::string>>& /*out*/) const {}
   // Totals for run.json.
   virtual void figures(std::vector<std::pair<std::string, double>>& /*out*/) const {}
   // What the run keeps besides the agent's engine state (which the simulation's checkpoint

@@ -47,6 +47,13 @@ inline constexpr Key<std::string> stream_kind{"boundary.stream.kind"};
 inline constexpr Key<double> filter_distance{"boundary.stream.filter_distance"};
 inline constexpr Key<std::string> piston{"boundary.stream.piston"};
 
+// The box walls' surface and motion (agents/walls.cpp): planar Couette flow (seed 003 §4.2).
+inline constexpr TableKey walls{"boundary.walls"};
+inline constexpr Key<std::string> walls_kind{"boundary.walls.kind"};
+inline constexpr Key<double> walls_r{"boundary.walls.r"};
+inline constexpr Key<double> walls_kT{"boundary.walls.kT"};
+inline constexpr Key<std::array<double, 2>> walls_U{"boundary.walls.U"};
+
 // The stochastic thermostat of seed 003 ch. 6 (agents/thermostat.cpp).
 inline constexpr TableKey thermostat{"thermostat"};
 inline constexpr Key<std::string> thermostat_kind{"thermostat.kind"};
@@ -54,6 +61,15 @@ inline constexpr Key<double> thermostat_T{"thermostat.T"};
 inline constexpr Key<double> thermostat_tau{"thermostat.tau"};
 inline constexpr Key<double> thermostat_tau_v{"thermostat.tau_v"};
 inline constexpr Key<double> thermostat_bin{"thermostat.bin"};
+
+// Phased runs (agents/phases.cpp): [[phase]] tables, each changing some values at `at`.
+inline constexpr TableKey phase{"phase"};
+inline constexpr Key<double> phase_at{"phase.at"};
+inline constexpr Key<std::string> phase_label{"phase.label"};
+inline constexpr Key<double> phase_e{"phase.e"};
+inline constexpr Key<double> phase_obstacle_r{"phase.obstacle_r"};
+inline constexpr Key<bool> phase_thermostat{"phase.thermostat"};
+inline constexpr Key<double> phase_thermostat_T{"phase.thermostat_T"};
 
 // The area fraction the scene asks for, from whichever of area_fraction, n or N it gives
 // (0 when none): the one conversion the cross-checks use.

@@ -220,7 +220,11 @@ public:
       if (attribute.value) s.attribute[out] = float(attribute.value(sim_, i, d));
     }
     s.obstacles.clear();
-    for (const auto& a : agents_) a->draw(s);
+    s.labels.clear();
+    for (const auto& a : agents_) {
+      a->draw(s);
+      a->labels(s.labels);
+    }
     // The exposure that ended most recently; none yet at the first frame.
     auto exposures = sampler_->take_frames();
     if (!exposures.empty()) {
