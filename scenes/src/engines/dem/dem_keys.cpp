@@ -117,10 +117,13 @@ void declare(Schema& s) {
 
   auto& cohesion = s.optional_table(vdw, "van der Waals cohesion, Eq. 5.29 (ch. 5)");
   cohesion.add_float(vdw_A, 1.0e-19, "Hamaker constant", "J").at_least(0.0);
-  cohesion.add_float(vdw_alpha_min, 4.0e-10, "separation below which the force is held constant", "m").above(0.0);
+  cohesion.add_float(vdw_alpha_min, 4.0e-10, "separation at and below which the force is zero, overlap included (Eq. 5.29; §5.3 puts it at the zero of "
+                    "Eq. 5.28, r_ss/60^(1/6))",
+                    "m").above(0.0);
   cohesion.add_float(vdw_cutoff, 1.0e-6, "separation beyond which the force is zero", "m").above(0.0);
   cohesion.add_float(vdw_asperity_radius, 0.0, "radius R in the force law (0 = particle radius)", "m").at_least(0.0);
-  cohesion.add_float(vdw_r_ss, 0.0, "repulsive length r_ss of Eq. 5.28 (0 = attraction only)", "m").at_least(0.0);
+  cohesion.add_float(vdw_r_ss, 0.0, "repulsive length r_ss of Eq. 5.28 (0 = attraction only, which then stops abruptly at alpha_min)",
+                    "m").at_least(0.0);
 
   auto& init = s.section("system.initial", "initial positions (§2.2)");
   init.add_enum(initial_kind, {"lattice", "random", "file"}, "random",
