@@ -12,6 +12,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <string>
 #include <vector>
 
@@ -318,4 +319,35 @@ TEST(InitialFile, EdDisksTakeSpinsFromTheFile) {
                           " --set system.initial.file=\"tilt.dump\"");
   EXPECT_NE(tilt.status, 0);
   EXPECT_TRUE(contains(tilt.output, "omegax")) << tilt.output;
+}
+
+TEST(InitialFile, LammpsDataFileGivesTheSameRunAsTheDump) {
+  // in.oblique_spin's write_data at step 0 (atom_style sphere: Atoms and Velocities with
+  // spins): the scene started from it reproduces the run started from the dump's step 0.
+  const auto from_dump = run_lammps_scene("from_dump");
+  const auto from_data = run_lammps_scene("from_data", " --set system.initial.file=\"oblique_spin.data\"");
+  ASSERT_EQ(from_data.size(), 5u);
+  ASSERT_EQ(from_dump.size(), 5u);
+  for (std::size_t i = 0; i < 2; ++i) {
+    EXPECT_EQ(from_data.back().position[i], from_dump.back().position[i]);
+    EXPECT_EQ(from_data.back().velocity[i], from_dump.back().velocity[i]);
+    EXPECT_EQ(from_data.back().omega[i], from_dump.back().omega[i]);
+  }
+  // A density the group does not have, and a section an initial state does not take, are
+  // errors naming them.
+  const fs::path dir = fresh_dir("data_errors");
+  std::ifstream in(kLammpsDir / "oblique_spin.data");
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string base = "run " + (kLammpsDir / "scene.toml").string();
+  const Result dense = run(base + " -o " + (dir / "dense").string() + " --set system.initial.file=\"" +
+                           (kLammpsDir / "oblique_spin.data").string() + "\" --set 'system.group[1].density=3000.0'");
+  EXPECT_NE(dense.status, 0);
+  EXPECT_TRUE(contains(dense.output, "density")) << dense.output;
+  std::string masses = text;
+  masses.replace(masses.find("Atoms # sphere"), 0, "Masses\n\n1 1.0\n2 1.0\n\n");
+  write(dir / "masses.data", masses);
+  const Result m = run(base + " -o " + (dir / "masses").string() + " --set system.initial.file=\"" +
+                       (dir / "masses.data").string() + "\"");
+  EXPECT_NE(m.status, 0);
+  EXPECT_TRUE(contains(m.output, "\"Masses\"")) << m.output;
 }

@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 
 #include "engine/core/error.hpp"
+#include "engine/io/line_reader.hpp"
 #include "engine/io/particle_reader.hpp"
 #include "scenes/src/scene/scene.hpp"
 
@@ -18,7 +19,7 @@ namespace {
 // What a column beyond the readers' own (id, type/species, positions, radius/diameter,
 // velocities) means: LAMMPS dump names first, then extended-XYZ names (a property
 // omega:R:3 reads as omega_x, omega_y, omega_z).
-enum class Quantity { omega_x, omega_y, omega_z, mass, type };
+enum class Quantity { omega_x, omega_y, omega_z, mass, type, density };
 struct ColumnName {
   std::string_view name;
   Quantity q;
@@ -29,6 +30,7 @@ constexpr ColumnName kColumns[] = {
     {"omega", Quantity::omega_z},  // a 2D file's one spin component (about z)
     {"mass", Quantity::mass},
     {"type", Quantity::type},      // an XYZ type:I:1 column beside species
+    {"density", Quantity::density},  // a LAMMPS data file's per-atom density
 };
 // Names of the readers' own quantities that system.initial.ignore may also list.
 constexpr std::string_view kRadiusNames[] = {"radius", "diameter"};
@@ -40,7 +42,157 @@ bool among(std::string_view s, const std::string_view (&names)[N]) {
   return std::find(std::begin(names), std::end(names), s) != std::end(names);
 }
 
+// A LAMMPS data file (read_data / write_data): a title line, then a header with
+// "N atoms". Dumps start with "ITEM:" and XYZ files with a count alone, so neither matches.
+bool is_lammps_data(const std::string& path) {
+  io::LineReader in(path);
+  std::string_view line;
+  std::vector<std::string_view> t;
+  if (!in.next(line)) return false;
+  if (io::trim(line).rfind("ITEM:", 0) == 0) return false;
+  for (int k = 0; k < 64 && in.next(line); ++k) {
+    io::split_ws(line.substr(0, line.find('#')), t);
+    std::int64_t n;
+    if (t.size() == 2 && t[1] == "atoms" && io::parse_int64(t[0], n)) return true;
+    if (t.size() == 1 && !io::parse_int64(t[0], n)) return false;  // a lone XYZ count parses; a word does not
+  }
+  return false;
+}
+
+// The state of a LAMMPS data file of atom_style sphere as a frame: header "N atoms",
+// "xlo xhi" …; "Atoms # sphere": id type diameter density x y z [ix iy iz] (image flags do
+// not move an in-box position); "Velocities": id vx vy vz omegax omegay omegaz. Density
+// comes as the column "density". Other sections (Masses, Pair Coeffs, …) are refused:
+// what they say is the scene's to say.
+core::ParticleFrame read_lammps_data(const std::string& path) {
+  io::LineReader in(path);
+  std::string_view line;
+  std::vector<std::string_view> t;
+  core::ParticleFrame f;
+  std::int64_t natoms = -1;
+  in.next(line);  // the title
+  const auto num = [&](std::string_view tok) {
+    double v;
+    if (!io::parse_double(tok, v) || !std::isfinite(v)) in.fail("expected a number, got " + io::quote_token(tok));
+    return v;
+  };
+  const auto id_of = [&](std::string_view tok) {
+    std::int64_t v;
+    if (!io::parse_int64(tok, v) || v < 1) in.fail("expected an atom id ≥ 1, got " + io::quote_token(tok));
+    return v;
+  };
+  std::string section;
+  std::vector<double> density, wx, wy, wz;
+  std::vector<std::int64_t> vel_id;
+  std::vector<Vec3> vel;
+  while (in.next(line)) {
+    const std::string_view body = io::trim(line.substr(0, line.find('#')));
+    if (body.empty()) continue;
+    io::split_ws(body, t);
+    if (section.empty() && !std::isdigit(static_cast<unsigned char>(body[0])) && body[0] != '-' && body[0] != '+' &&
+        body[0] != '.') {
+      section = std::string(body);
+      if (section != "Atoms" && section != "Velocities")
+        in.fail("section \"" + io::printable(section) + "\" is not read for an initial state (only Atoms and "
+                "Velocities of atom_style sphere); give such settings in the scene");
+      if (natoms < 0) in.fail("the header has no \"N atoms\" line before the " + section + " section");
+      const std::string_view comment = line.find('#') == std::string_view::npos ? "" : io::trim(line.substr(line.find('#') + 1));
+      if (section == "Atoms" && !comment.empty() && comment != "sphere")
+        in.fail("Atoms # " + io::printable(comment) + ": only atom_style sphere is read");
+      // The section's lines follow.
+      const std::size_t n = std::size_t(natoms);
+      for (std::size_t i = 0; i < n;) {
+        if (!in.next(line)) in.fail("the " + section + " section ends after " + std::to_string(i) + " of " +
+                                    std::to_string(n) + " lines");
+        const std::string_view b = io::trim(line.substr(0, line.find('#')));
+        if (b.empty()) continue;
+        io::split_ws(b, t);
+        if (section == "Atoms") {
+          if (t.size() != 7 && t.size() != 10)
+            in.fail("expected 7 or 10 columns (id type diameter density x y z [ix iy iz], atom_style sphere), got " +
+                    std::to_string(t.size()));
+          f.id.push_back(id_of(t[0]));
+          const double type = num(t[1]);
+          if (type < 1 || type != std::floor(type)) in.fail("expected an atom type ≥ 1, got " + io::quote_token(t[1]));
+          f.type.push_back(int(type));
+          f.radius.push_back(0.5 * num(t[2]));
+          density.push_back(num(t[3]));
+          f.position.emplace_back(num(t[4]), num(t[5]), num(t[6]));
+        } else {
+          if (t.size() != 7)
+            in.fail("expected 7 columns (id vx vy vz omegax omegay omegaz, atom_style sphere), got " +
+                    std::to_string(t.size()));
+          vel_id.push_back(id_of(t[0]));
+          vel.emplace_back(num(t[1]), num(t[2]), num(t[3]));
+          wx.push_back(num(t[4]));
+          wy.push_back(num(t[5]));
+          wz.push_back(num(t[6]));
+        }
+        ++i;
+      }
+      section.clear();
+      continue;
+    }
+    std::int64_t n;
+    if (t.size() == 2 && t[1] == "atoms" && io::parse_int64(t[0], n)) {
+      io::check_particle_limit(in, n);
+      natoms = n;
+    } else if (t.size() == 4 && t[3].size() == 2 + 1 && t[3].substr(1) == "hi" && t[2].size() == 3 &&
+               t[2].substr(1) == "lo") {
+      const int a = t[2][0] == 'x' ? 0 : t[2][0] == 'y' ? 1 : t[2][0] == 'z' ? 2 : -1;
+      if (a < 0) in.fail("unexpected header line " + io::quote_token(body));
+      f.box_lo[a] = num(t[0]);
+      f.box_hi[a] = num(t[1]);
+      f.has_box = true;
+    } else if (t.size() == 3 && t[1] == "atom" && t[2] == "types") {
+      // the number of atom types: the scene's groups say what they are
+    } else if (t.size() >= 2 && (t.back() == "types" || t.back() == "bonds" || t.back() == "angles" ||
+                                 t.back() == "dihedrals" || t.back() == "impropers")) {
+      if (!(io::parse_int64(t[0], n) && n == 0))
+        in.fail("\"" + io::printable(body) + "\": molecular topology is not read for an initial state");
+    } else if (t.size() == 4 && t[3] == "yz") {
+      in.fail("a tilted (triclinic) box is not read for an initial state");
+    } else {
+      in.fail("unexpected header line " + io::quote_token(body));
+    }
+  }
+  if (natoms < 0 || f.position.size() != std::size_t(natoms))
+    throw Error(path + ": a LAMMPS data file needs an \"N atoms\" header and its Atoms section");
+  f.dim = 3;
+  f.timestep = 0;
+  if (!vel.empty()) {
+    // Velocities are keyed by atom id, in any order.
+    std::vector<std::size_t> row_of_id;
+    for (std::size_t i = 0; i < f.size(); ++i) {
+      const auto id = std::size_t(f.id[i]);
+      if (id >= row_of_id.size()) row_of_id.resize(id + 1, SIZE_MAX);
+      row_of_id[id] = i;
+    }
+    f.velocity.assign(f.size(), Vec3::Zero());
+    std::vector<double> ox(f.size()), oy(f.size()), oz(f.size());
+    for (std::size_t k = 0; k < vel.size(); ++k) {
+      const auto id = std::size_t(vel_id[k]);
+      if (id >= row_of_id.size() || row_of_id[id] == SIZE_MAX)
+        throw Error(path + ": Velocities names atom " + std::to_string(id) + ", which the Atoms section lacks");
+      const std::size_t i = row_of_id[id];
+      f.velocity[i] = vel[k];
+      ox[i] = wx[k], oy[i] = wy[k], oz[i] = wz[k];
+    }
+    f.extra.emplace_back("omegax", std::move(ox));
+    f.extra.emplace_back("omegay", std::move(oy));
+    f.extra.emplace_back("omegaz", std::move(oz));
+  }
+  f.extra.emplace_back("density", std::move(density));
+  return f;
+}
+
 core::ParticleFrame read_frame(const std::string& what, const std::string& path, std::int64_t wanted) {
+  if (std::filesystem::is_regular_file(path) && is_lammps_data(path)) {
+    if (wanted > 0)
+      throw Error(fmt::format("{}: system.initial.frame = {}, but a LAMMPS data file holds one state; allowed: 0 or −1",
+                              what, wanted));
+    return read_lammps_data(path);
+  }
   auto reader = io::open_particle_file(path);
   core::ParticleFrame f, next;
   std::int64_t frames = 0;
@@ -112,7 +264,7 @@ InitialParticles map_columns(core::ParticleFrame frame_read, std::string source,
   out.type = keep_type ? f.type : std::vector<int>(n, 1);
 
   std::vector<std::string> unknown;
-  std::optional<std::string> seen[5];
+  std::optional<std::string> seen[6];
   for (const auto& [col, values] : f.extra) {
     if (skipped(col)) continue;
     const ColumnName* c = nullptr;
@@ -136,6 +288,12 @@ InitialParticles map_columns(core::ParticleFrame frame_read, std::string source,
         for (std::size_t i = 0; i < n; ++i) out.omega[i][axis] = values[i];
         break;
       }
+      case Quantity::density:
+        out.density = values;
+        for (std::size_t i = 0; i < n; ++i)
+          if (!(std::isfinite(values[i]) && values[i] > 0))
+            throw Error(fmt::format("{}: particle {} has density {}; allowed: > 0", what, i + 1, values[i]));
+        break;
       case Quantity::mass:
         out.mass = values;
         for (std::size_t i = 0; i < n; ++i)

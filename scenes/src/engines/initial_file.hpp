@@ -1,5 +1,6 @@
 // system.initial.kind = "file" for both engines: the one mapping from the columns of a
-// particle file (extended XYZ such as a run's particles.xyz, or a LAMMPS text dump) to an
+// particle file (extended XYZ such as a run's particles.xyz, a LAMMPS text dump, or a
+// LAMMPS data file of atom_style sphere as read_data takes it) to an
 // initial state: positions, velocities, angular velocities, radii, masses and types.
 // A column the mapping does not know is an error naming it, unless the scene lists it in
 // system.initial.ignore: nothing in the file is dropped in silence.
@@ -37,6 +38,7 @@ struct InitialParticles {
   std::vector<Vec3> omega;          // angular velocity [rad per time unit]
   std::vector<double> radius;
   std::vector<double> mass;
+  std::vector<double> density;      // a LAMMPS data file's per-atom density
   std::vector<int> type;            // 1-based, as LAMMPS; all 1 when the file has none
   std::size_t size() const { return position.size(); }
 };

@@ -68,6 +68,13 @@ std::vector<dem::ParticleInit> particles_from_file(const Scene& sc, const dem::C
     if (!f.radius.empty()) p.radius = f.radius[i];
     if (!f.velocity.empty()) p.v = f.velocity[i];
     if (!f.omega.empty()) p.omega = f.omega[i];
+    if (!f.density.empty()) {
+      const dem::GroupConfig& g = c.groups[std::size_t(p.group)];
+      if (!(std::abs(f.density[i] - g.density) <= 1e-12 * g.density))
+        throw Error(fmt::format("{}: particle {} has density {:.9g} kg/m³, but system.group[{}].density = {:.9g}; "
+                                "make them equal, or list \"density\" in system.initial.ignore",
+                                what, i + 1, f.density[i], p.group, g.density));
+    }
     if (!f.mass.empty()) {
       const dem::GroupConfig& g = c.groups[std::size_t(p.group)];
       const double r = p.radius > 0 ? p.radius : g.radius;

@@ -87,6 +87,7 @@ std::vector<ed::DiskInit> disks_from_file(const Scene& sc, const ed::Config& c) 
     ed::DiskInit& d = disks[i];
     d.r = Vec2(f.position[i].x(), f.position[i].y());
     if (!f.radius.empty()) d.radius = f.radius[i];
+    if (!f.density.empty()) d.mass = f.density[i] * std::numbers::pi * d.radius * d.radius;  // LAMMPS 2d: per area
     if (!f.mass.empty()) d.mass = f.mass[i];
     if (!f.velocity.empty()) {
       d.v = Vec2(f.velocity[i].x(), f.velocity[i].y());
