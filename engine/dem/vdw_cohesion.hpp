@@ -1,7 +1,17 @@
-// Van der Waals cohesion, seed 000 ch. 5 (Eq. 5.28, 5.21 combined as Eq. 5.29):
-// F(α) = A·R_eff/(6α²)·(1 − r_ss⁶/(60α⁶)) for α_min < α < α_cut, F(α_min) for α ≤ α_min
-// (also during overlap, where the normal model acts as well), 0 beyond α_cut.
+// Van der Waals cohesion, seed 000 ch. 5, combined with the contact force as Eq. 5.29:
+// F(α) = A·R_eff/(6α²)·(1 − r_ss⁶/(60α⁶)) for α_min < α < α_cut, 0 beyond α_cut, and 0 for
+// α ≤ α_min — in the gap below α_min and during overlap (α < 0), where Eq. 5.29 leaves
+// only the spring. §5.3 chooses α_min at the point of zero force, α_min = r_ss/60^(1/6),
+// so that the force falls continuously to zero there ("held constant" below it at that
+// zero value). With r_ss = 0 the attraction instead stops abruptly at α_min.
 // R_eff = R/2 between equal spheres (AR/(12α²), Eq. 5.28) and R at a wall (AR/(6α²), 5.21).
+//
+// Why not hold F(α_min) during overlap: a pull during overlap keeps a slow pair in
+// contact, and Walton's latching spring (walton_normal.hpp) is lossless on its K2 line
+// (unloading and reloading below the largest overlap dissipate nothing), so such a pair
+// oscillates for ever. Without it, nothing holds a pair in overlap: it leaves contact every
+// time, its history is forgotten, and each return is a fresh K1 loading that keeps e² of
+// its energy — the decay to a negligible value of seed 000 Fig. 5.14–5.16.
 #pragma once
 #include <algorithm>
 #include <string_view>
@@ -14,7 +24,7 @@ namespace grainflow::dem {
 struct VdwCohesion {
   static constexpr std::string_view kName = "vdw";
   static constexpr std::string_view kDescription =
-      "van der Waals attraction of Eq. 5.29 (A, asperity radius, r_ss, α_min, α_cut)";
+      "van der Waals attraction of Eq. 5.29 (A, asperity radius, r_ss, α_min, α_cut; 0 at and below α_min)";
   // Hamaker constant A [J], asperity radius R [m] (0: use the particle radius), r_ss [m],
   // α_min and α_cut [m] (surface separations).
   struct Coeffs {
@@ -53,13 +63,14 @@ struct VdwCohesion {
     return q;
   }
   static double range(const Params& q) { return q.alpha_cut; }
-  // Attractive magnitude [N] at surface separation `gap` = −delta.
+  // Attractive magnitude [N] at surface separation `gap` = −delta (Eq. 5.29): zero at
+  // and below α_min, overlap included.
   static double force(const Params& q, const ContactKinematics& k) {
     const double gap = -k.delta;
-    if (gap >= q.alpha_cut) return 0.0;
+    if (gap >= q.alpha_cut || gap <= q.alpha_min) return 0.0;
     // Asperity radius R replaces the particle radius: R_eff = R/2 (pair) or R (wall).
     const double reff = q.asperity > 0.0 ? (k.wall ? q.asperity : 0.5 * q.asperity) : k.r_eff;
-    return vdw_force(q.hamaker, reff, q.rss6, std::max(gap, q.alpha_min));
+    return vdw_force(q.hamaker, reff, q.rss6, gap);
   }
   static double vdw_force(double A, double reff, double rss6, double a) {
     const double a2 = a * a, a6 = a2 * a2 * a2;

@@ -26,17 +26,29 @@ inline double walton_time_step(double m, double k1, double e, int n) { return wa
 struct WaltonNormal {
   static constexpr std::string_view kName = "walton";
   static constexpr std::string_view kDescription =
-      "Walton's partially latching spring (K1 = k1, K2 = K1/e², seed 000 §2.4)";
-  using Reads = TypeList<SpringCoeffs>;
+      "Walton's partially latching spring (K1 = k1, K2 = k2 or K1/e², seed 000 §2.4)";
+  // K2 [N/m], the unloading (restoration) spring of Eq. 2.1; 0 derives it from e as
+  // K2 = K1/e² (Eq. 2.9). Given, it replaces e: the restitution is then sqrt(K1/K2).
+  struct Coeffs {
+    double k2 = 0.0;
+    static Coeffs mix(const Coeffs& a, const Coeffs& b) {
+      return {(a.k2 > 0.0 && b.k2 > 0.0) ? mix_mean(a.k2, b.k2) : 0.0};  // derived unless both give it
+    }
+  };
+  using Reads = TypeList<SpringCoeffs, Coeffs>;
   static void validate(const auto& p, const CoeffCheck& c) {
     SpringCoeffs::check_k1(p, c);
-    SpringCoeffs::check_e(p, c);
+    if (p.k2 == 0.0) SpringCoeffs::check_e(p, c);  // e only matters when K2 is derived
+    c.require(p.k2 == 0.0 || (std::isfinite(p.k2) && p.k2 >= p.k1), "k2", p.k2,
+              "K2 must be ≥ K1 (e = sqrt(K1/K2) ≤ 1), or 0 to derive it from e");
   }
+  // K2 = k2, or K1/e² (Eq. 2.9): never softer than K1, so the stiffest.
+  static double unloading_stiffness(const auto& p) { return p.k2 > 0.0 ? p.k2 : p.k1 / (p.e * p.e); }
+  // Eq. 2.21: π sqrt(μ/K2); with K2 derived this is Eq. 2.22's π e sqrt(μ/K1).
   static double collision_time(const auto& p, double mu_red, double /*m_eff_pair*/) {
+    if (p.k2 > 0.0) return std::numbers::pi * std::sqrt(mu_red / p.k2);
     return walton_collision_time(mu_red, p.k1, p.e);
   }
-  // K2 = K1/e² (Eq. 2.9), the unloading spring; never softer than K1, so the stiffest.
-  static double unloading_stiffness(const auto& p) { return p.k1 / (p.e * p.e); }
   static double max_stiffness(const auto& p) { return unloading_stiffness(p); }
 
   static constexpr bool kNeedsMass = false;  // never reads ContactKinematics::m_eff

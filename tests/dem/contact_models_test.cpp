@@ -74,6 +74,22 @@ TEST(WaltonNormal, LoadUnloadReloadCycleMatchesHandValues) {
   EXPECT_EQ(h[0], 0.0);
 }
 
+TEST(WaltonNormal, GivenK2ReplacesTheRestitution) {
+  ContactParams p;
+  p.k1 = 100.0;
+  p.e = 0.3;     // not used: K2 is given
+  p.k2 = 400.0;  // e = sqrt(K1/K2) = 0.5, as the hand values above
+  auto law = law_of({NormalKind::Walton, TangentialKind::None, CohesionKind::None}, p);
+  std::vector<double> h(law->history_size(), 0.0);
+  ContactForce out;
+  law->evaluate(0, kin(2.0e-3), h.data(), true, out);
+  law->evaluate(0, kin(1.8e-3), h.data(), true, out);
+  EXPECT_NEAR(-out.f[0], 0.120, 1e-12);
+  EXPECT_NEAR(h[0], 1.5e-3, 1e-15);
+  p.k2 = 50.0;  // softer than K1: e > 1
+  EXPECT_THROW(validate(p, {NormalKind::Walton, TangentialKind::None, CohesionKind::None}, "g"), Error);
+}
+
 TEST(WaltonNormal, ElasticWhenRestitutionIsOne) {
   ContactParams p;
   p.k1 = 50.0;
@@ -225,16 +241,18 @@ TEST(VanDerWaals, PairAndWallForcesFollowEq529) {
     const double eq521 = 1e-18 * R / (6 * a * a) * (1 - rss6 / (60 * std::pow(a, 6)));
     EXPECT_NEAR(out.f[0], eq521, 1e-12 * eq521) << a;
   }
-  // Constant inside α_min, also during overlap (added to the spring).
-  const double fmin = 1e-18 * R / (12 * 16e-20) * (1 - rss6 / (60 * std::pow(4e-10, 6)));
+  // Eq. 5.29: zero at and below α_min — in the gap and during overlap, where only the
+  // spring acts (the pull of α_min is not held: it would keep a slow pair on the lossless
+  // K2 line of the latching spring for ever, vdw_cohesion.hpp).
   ContactKinematics k = kin(-1e-10);
   k.r_eff = 0.5 * R;
   ContactForce out;
-  law->evaluate(0, k, h.data(), true, out);
-  EXPECT_NEAR(out.f[0], fmin, 1e-12 * fmin);
+  EXPECT_FALSE(law->evaluate(0, k, h.data(), true, out));
+  k.delta = -4e-10;
+  EXPECT_FALSE(law->evaluate(0, k, h.data(), true, out));
   k.delta = 1e-9;
-  law->evaluate(0, k, h.data(), true, out);
-  EXPECT_NEAR(out.f[0], fmin - 1e-7 * 1e-9, 1e-12 * fmin);
+  ASSERT_TRUE(law->evaluate(0, k, h.data(), true, out));
+  EXPECT_NEAR(out.f[0], -1e-7 * 1e-9, 1e-30);  // the spring's K1·α alone, repulsive (−n)
   // Zero beyond the cutoff.
   k.delta = -1.1e-6;
   EXPECT_FALSE(law->evaluate(0, k, h.data(), true, out));

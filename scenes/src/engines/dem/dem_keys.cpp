@@ -7,6 +7,7 @@
 
 #include "engine/dem/contact_params.hpp"
 #include "scenes/src/engines/dem/dem_keys.hpp"
+#include "scenes/src/engines/initial_file.hpp"
 #include "scenes/src/engines/memory_budget.hpp"
 #include "scenes/src/scene/scene.hpp"
 #include "scenes/src/scene/schema.hpp"
@@ -35,8 +36,15 @@ void declare(Schema& s) {
 
   auto& sys = s.section("system", "3D soft spheres: box, integration, gravity (seed 000 §2)");
   sys.add_float_array(box, {0.1, 0.1, 0.1}, {"Lx", "Ly", "Lz"}, "domain size", "m").above(0.0);
+  sys.add_float_array(origin, {0.0, 0.0, 0.0}, {"x0", "y0", "z0"},
+                      "lower corner of the box: the domain is origin … origin + box (a LAMMPS region block xlo xhi "
+                      "… is origin = [xlo, ylo, zlo], box = [xhi − xlo, …])",
+                      "m");
   sys.add_float_array(gravity, {0.0, 0.0, -9.81}, {"gx", "gy", "gz"}, "gravitational acceleration", "m/s²");
-  sys.add_float(dt, 0.0, "time step; when absent it follows from steps_per_collision (Eq. 2.23)", "s")
+  sys.add_float(dt, 0.0,
+                "time step, used exactly as given (t = step × dt); when absent it follows from steps_per_collision "
+                "(Eq. 2.23)",
+                "s")
       .above(0.0)
       .optional();
   sys.add_int(steps_per_collision, 50, "steps per binary collision n, used when dt is absent (§2.5: 40–60)")
@@ -54,12 +62,42 @@ void declare(Schema& s) {
                    "normal force: " + table_doc(dem::sub_models<dem::NormalKind>()));
   contact.add_enum(tangential_model, dem::tangential_model_names(), "walton",
                    "tangential force: " + table_doc(dem::sub_models<dem::TangentialKind>()));
-  contact.add_float(kn, 1.0e4, "normal loading stiffness K1", "N/m").above(0.0);
-  contact.add_float(kt, 8.0e3, "initial tangential stiffness", "N/m").above(0.0);
-  contact.add_float(e, 0.9, "normal restitution e = sqrt(K1/K2) (Eq. 2.9)").above(0.0).at_most(1.0);
-  contact.add_float(mu, 0.3, "Coulomb friction coefficient").at_least(0.0);
+  contact.add_float(kn, 1.0e4, "normal loading stiffness K1 (LAMMPS Kn)", "N/m").above(0.0);
+  contact.add_float(kt, 8.0e3, "initial tangential stiffness: Walton's K0, LAMMPS Kt", "N/m").above(0.0);
+  contact.add_float(e, 0.9,
+                    "normal restitution: walton K2 = K1/e² (Eq. 2.9) unless k2 is given; hooke γn from e unless "
+                    "gamma_n is given")
+      .above(0.0)
+      .at_most(1.0);
+  contact.add_float(mu, 0.3, "Coulomb friction coefficient (LAMMPS xmu)").at_least(0.0);
+  contact.add_float(gamma_n, 0.0,
+                    "hooke: normal damping γn (LAMMPS gamma_n; force m_eff·γn·v_n); absent: derived from e for a "
+                    "pair of the group",
+                    "1/s")
+      .at_least(0.0)
+      .optional();
+  contact.add_float(gamma_t, 0.0,
+                    "history: tangential damping γt (LAMMPS gamma_t; force m_eff·γt·v_t); absent: γn/2 (LAMMPS NULL)",
+                    "1/s")
+      .at_least(0.0)
+      .optional();
+  contact.add_bool(dampflag, true, "history: tangential damping on (LAMMPS dampflag 1) or off (0: γt = 0)");
+  contact.add_float(k2, 0.0, "walton: unloading stiffness K2 (Eq. 2.1); absent: K1/e² (Eq. 2.9), given: e = "
+                             "sqrt(K1/K2) and system.contact.e is not used by the normal model",
+                    "N/m")
+      .above(0.0)
+      .optional();
+  contact.add_float(walton_gamma, 1.0 / 3.0, "walton tangential: the exponent γ of K_T (Eq. 2.10; 1 = linear in T)")
+      .above(0.0)
+      .at_most(10.0);
 
-  auto& groups = s.array_table(group, "a particle species: size, density, count (§2.2: two groups)");
+  // The mixing rule is engine/dem's (contact_params.hpp: each coefficient block's mix()).
+  auto& groups = s.array_table(
+      group,
+      "a particle species: size, density, count (§2.2: two groups) and optionally its own contact coefficients, "
+      "which apply within the group and at the walls; between two groups each coefficient is the arithmetic mean "
+      "of the two groups' values, and a γn, γt or K2 that either group derives stays derived (from the mean e); "
+      "dampflag and the sub-models are system-wide");
   groups.min_count = 1;
   groups.add_int(group_N, 1000, "number of particles in the group").at_least(1);
   groups.add_float(group_radius, 1.0e-3, "particle radius", "m").above(0.0);
@@ -68,22 +106,31 @@ void declare(Schema& s) {
       .at_least(0.0)
       .at_most(1.0);
   groups.add_float(group_mu, -1.0, "friction of this group's contacts (negative = use system.contact.mu)");
+  groups.add_float(group_kn, 0.0, "K1 / Kn of this group's contacts (0 = use system.contact.kn)", "N/m").at_least(0.0);
+  groups.add_float(group_kt, 0.0, "K0 / Kt of this group's contacts (0 = use system.contact.kt)", "N/m").at_least(0.0);
+  groups.add_float(group_k2, 0.0, "walton K2 of this group's contacts (0 = use system.contact.k2 or K1/e²)", "N/m")
+      .at_least(0.0);
+  groups.add_float(group_gamma_n, -1.0, "hooke γn of this group's contacts (negative = use system.contact.gamma_n)",
+                   "1/s");
+  groups.add_float(group_gamma_t, -1.0, "history γt of this group's contacts (negative = use system.contact.gamma_t)",
+                   "1/s");
 
   auto& cohesion = s.optional_table(vdw, "van der Waals cohesion, Eq. 5.29 (ch. 5)");
   cohesion.add_float(vdw_A, 1.0e-19, "Hamaker constant", "J").at_least(0.0);
-  cohesion.add_float(vdw_alpha_min, 4.0e-10, "separation below which the force is held constant", "m").above(0.0);
+  cohesion.add_float(vdw_alpha_min, 4.0e-10, "separation at and below which the force is zero, overlap included (Eq. 5.29; §5.3 puts it at the zero of "
+                    "Eq. 5.28, r_ss/60^(1/6))",
+                    "m").above(0.0);
   cohesion.add_float(vdw_cutoff, 1.0e-6, "separation beyond which the force is zero", "m").above(0.0);
   cohesion.add_float(vdw_asperity_radius, 0.0, "radius R in the force law (0 = particle radius)", "m").at_least(0.0);
-  cohesion.add_float(vdw_r_ss, 0.0, "repulsive length r_ss of Eq. 5.28 (0 = attraction only)", "m").at_least(0.0);
+  cohesion.add_float(vdw_r_ss, 0.0, "repulsive length r_ss of Eq. 5.28 (0 = attraction only, which then stops abruptly at alpha_min)",
+                    "m").at_least(0.0);
 
   auto& init = s.section("system.initial", "initial positions (§2.2)");
   init.add_enum(initial_kind, {"lattice", "random", "file"}, "random",
                 "cubic lattice, random non-overlapping with radius growth (FINDRAD), or read from a file");
-  init.add_string(initial_file, "",
-                  "particle file (XYZ or LAMMPS dump) for kind = \"file\", path relative to the scene file: its first "
-                  "frame gives positions, radii (0 or no radius column = the group's radius) and velocities; type t "
-                  "is group t − 1 and each group's N must equal its type's count")
-      .path();
+  initial_file::declare(init, "positions, velocities, angular velocities (omegax omegay omegaz), radii (0 or "
+                              "none = the group's radius) and masses (checked against radius and density); type t "
+                              "is group t − 1 and each group's N must equal its type's count");
   init.add_int(grow_steps, 1000, "steps of radius growth from small to final radius (random placement)")
       .at_least(0);
 
@@ -96,8 +143,8 @@ void declare(Schema& s) {
                       "m/s");
 
   s.add_check([](const Scene& sc, SceneCheck& c) {
-    if (sc.get(initial_kind) == "file" && sc.get(initial_file).empty())
-      c.fail(initial_file.path, "system.initial.kind = \"file\" needs system.initial.file = \"path\"");
+    if (sc.get(initial_kind) == "file" && sc.get(initial_file::file).empty())
+      c.fail(initial_file::file.path, "system.initial.kind = \"file\" needs system.initial.file = \"path\"");
     if (sc.has(vdw) && sc.get(vdw_cutoff) <= sc.get(vdw_alpha_min))
       c.fail(vdw_cutoff.path, "system.vdw.cutoff = " + toml_float(sc.get(vdw_cutoff)) +
                                   " must exceed system.vdw.alpha_min = " + toml_float(sc.get(vdw_alpha_min)));

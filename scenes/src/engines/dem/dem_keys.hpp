@@ -14,6 +14,7 @@ inline constexpr Key<bool> pair_csv{"output.pair_csv"};
 inline constexpr Key<std::int64_t> pair_every{"output.pair_every"};
 
 inline constexpr Key<std::array<double, 3>> box{"system.box"};
+inline constexpr Key<std::array<double, 3>> origin{"system.origin"};
 inline constexpr Key<std::array<double, 3>> gravity{"system.gravity"};
 inline constexpr Key<double> dt{"system.dt"};
 inline constexpr Key<std::int64_t> steps_per_collision{"system.steps_per_collision"};
@@ -28,6 +29,13 @@ inline constexpr Key<double> kn{"system.contact.kn"};
 inline constexpr Key<double> kt{"system.contact.kt"};
 inline constexpr Key<double> e{"system.contact.e"};
 inline constexpr Key<double> mu{"system.contact.mu"};
+// LAMMPS pair_style gran/hooke/history Kn Kt gamma_n gamma_t xmu dampflag: kn, kt,
+// gamma_n, gamma_t, mu (= xmu), dampflag; Walton's K2 and tangential exponent γ.
+inline constexpr Key<double> gamma_n{"system.contact.gamma_n"};
+inline constexpr Key<double> gamma_t{"system.contact.gamma_t"};
+inline constexpr Key<bool> dampflag{"system.contact.dampflag"};
+inline constexpr Key<double> k2{"system.contact.k2"};
+inline constexpr Key<double> walton_gamma{"system.contact.walton_gamma"};
 
 inline constexpr TableKey group{"system.group"};
 inline constexpr Key<std::int64_t> group_N{"system.group.N"};
@@ -35,6 +43,11 @@ inline constexpr Key<double> group_radius{"system.group.radius"};
 inline constexpr Key<double> group_density{"system.group.density"};
 inline constexpr Key<double> group_e{"system.group.e"};
 inline constexpr Key<double> group_mu{"system.group.mu"};
+inline constexpr Key<double> group_kn{"system.group.kn"};
+inline constexpr Key<double> group_kt{"system.group.kt"};
+inline constexpr Key<double> group_k2{"system.group.k2"};
+inline constexpr Key<double> group_gamma_n{"system.group.gamma_n"};
+inline constexpr Key<double> group_gamma_t{"system.group.gamma_t"};
 
 inline constexpr TableKey vdw{"system.vdw"};
 inline constexpr Key<double> vdw_A{"system.vdw.A"};
@@ -44,7 +57,7 @@ inline constexpr Key<double> vdw_asperity_radius{"system.vdw.asperity_radius"};
 inline constexpr Key<double> vdw_r_ss{"system.vdw.r_ss"};
 
 inline constexpr Key<std::string> initial_kind{"system.initial.kind"};
-inline constexpr Key<std::string> initial_file{"system.initial.file"};
+// system.initial.file, frame and ignore: initial_file.hpp, shared with the ED engine.
 inline constexpr Key<std::int64_t> grow_steps{"system.initial.grow_steps"};
 
 inline constexpr Key<std::array<bool, 3>> periodic{"boundary.periodic"};

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <numbers>
 #include <optional>
 #include <span>
 #include <stdexcept>
@@ -28,6 +29,7 @@
 #include "scenes/src/engines/engine_table.hpp"
 #include "scenes/src/outputs/run_record.hpp"
 #include "scenes/src/engines/field_snapshot.hpp"
+#include "scenes/src/engines/initial_file.hpp"
 #include "scenes/src/engines/sampling.hpp"
 #include "scenes/src/scene/run_keys.hpp"
 #include "scenes/src/scene/scene.hpp"
@@ -37,55 +39,68 @@ namespace {
 
 namespace keys = dem_keys;
 
-// system.initial.kind = "file" (seed 000 §2.1, "read from a list"): the first frame of
-// system.initial.file gives positions, radii (0 → the group's radius) and velocities;
-// particle type t belongs to group t − 1, and each group's N must equal its type's count.
-std::vector<dem::ParticleInit> particles_from_file(const Scene& sc, const std::vector<std::size_t>& counts) {
-  const std::string name = sc.get(keys::initial_file);
-  std::filesystem::path path(name);
-  if (path.is_relative() && !sc.source().empty()) path = sc.source().parent_path() / path;
-  auto reader = io::open_particle_file(path.string());
-  core::ParticleFrame f;
-  if (!reader->next(f))
-    throw Error("system.initial.file = \"" + name + "\": " + path.string() + " holds no particle frame");
+// system.initial.kind = "file" (seed 000 §2.1, "read from a list"): one frame of
+// system.initial.file (initial_file.hpp: the column mapping both engines share) gives
+// positions, velocities, angular velocities, radii (0 or none → the group's radius) and
+// masses (checked: DEM masses follow from radius and density); particle type t belongs to
+// group t − 1, and each group's N must equal its type's count.
+std::vector<dem::ParticleInit> particles_from_file(const Scene& sc, const dem::Config& c,
+                                                   const std::vector<std::size_t>& counts) {
+  const initial_file::InitialParticles f = initial_file::read(sc, 3, c.box.lo, c.box.hi);
+  const std::string& what = f.what;
   std::size_t total = 0;
   for (auto n : counts) total += n;
   if (f.size() != total)
-    throw Error("system.initial.file = \"" + name + "\": the file has " + std::to_string(f.size()) +
-                " particles but the groups' N add up to " + std::to_string(total) +
-                "; make the system.group N counts add up to the file's particle count");
-  // The readers report radius 0.5 for every particle when the file has no radius or
-  // diameter column; such a frame takes the groups' radii.
-  const bool has_radii = std::any_of(f.radius.begin(), f.radius.end(), [](double r) { return r != 0.5; });
+    throw Error(what + ": the file has " + std::to_string(f.size()) + " particles but the groups' N add up to " +
+                std::to_string(total) + "; make the system.group N counts add up to the file's particle count");
   std::vector<std::size_t> seen(counts.size(), 0);
   std::vector<dem::ParticleInit> out(f.size());
   for (std::size_t i = 0; i < f.size(); ++i) {
     const int t = f.type[i];
     if (t < 1 || std::size_t(t) > counts.size())
-      throw Error("system.initial.file = \"" + name + "\": particle " + std::to_string(i + 1) + " has type " +
-                  std::to_string(t) + ", but the scene has " + std::to_string(counts.size()) +
+      throw Error(what + ": particle " + std::to_string(i + 1) + " has type " + std::to_string(t) +
+                  ", but the scene has " + std::to_string(counts.size()) +
                   " [[system.group]] table(s); allowed types: 1.." + std::to_string(counts.size()) +
                   " (type t is group t − 1)");
     dem::ParticleInit& p = out[i];
     p.x = f.position[i];
     p.group = t - 1;
-    p.radius = has_radii ? f.radius[i] : 0.0;
-    if (f.has_velocity()) p.v = f.velocity[i];
+    if (!f.radius.empty()) p.radius = f.radius[i];
+    if (!f.velocity.empty()) p.v = f.velocity[i];
+    if (!f.omega.empty()) p.omega = f.omega[i];
+    if (!f.density.empty()) {
+      const dem::GroupConfig& g = c.groups[std::size_t(p.group)];
+      if (!(std::abs(f.density[i] - g.density) <= 1e-12 * g.density))
+        throw Error(fmt::format("{}: particle {} has density {:.9g} kg/m³, but system.group[{}].density = {:.9g}; "
+                                "make them equal, or list \"density\" in system.initial.ignore",
+                                what, i + 1, f.density[i], p.group, g.density));
+    }
+    if (!f.mass.empty()) {
+      const dem::GroupConfig& g = c.groups[std::size_t(p.group)];
+      const double r = p.radius > 0 ? p.radius : g.radius;
+      const double m = g.density * 4.0 / 3.0 * std::numbers::pi * r * r * r;
+      if (!(std::abs(f.mass[i] - m) <= 1e-9 * m))
+        throw Error(fmt::format("{}: particle {} has mass {:.9g} kg, but radius {:.9g} m at system.group[{}].density "
+                                "= {:.9g} kg/m³ gives {:.9g} kg; set the density to match, or list \"mass\" in "
+                                "system.initial.ignore",
+                                what, i + 1, f.mass[i], r, p.group, g.density, m));
+    }
     ++seen[std::size_t(t - 1)];
   }
   for (std::size_t g = 0; g < counts.size(); ++g)
     if (seen[g] != counts[g])
-      throw Error("system.group[" + std::to_string(g) + "].N = " + std::to_string(counts[g]) + ", but " + name +
-                  " holds " + std::to_string(seen[g]) + " particles of type " + std::to_string(g + 1) +
-                  "; N must equal the file's count of its type");
+      throw Error("system.group[" + std::to_string(g) + "].N = " + std::to_string(counts[g]) + ", but " +
+                  sc.get(initial_file::file) + " holds " + std::to_string(seen[g]) + " particles of type " +
+                  std::to_string(g + 1) + "; N must equal the file's count of its type");
   return out;
 }
 
 dem::Config dem_config(const Scene& sc) {
   dem::Config c;
   const auto box = sc.get(keys::box);
-  c.box.lo = Vec3::Zero();
-  c.box.hi = {box[0], box[1], box[2]};
+  const auto lo = sc.get(keys::origin);
+  c.box.lo = {lo[0], lo[1], lo[2]};
+  c.box.hi = c.box.lo + Vec3(box[0], box[1], box[2]);
   const auto periodic = sc.get(keys::periodic);
   c.box.periodic = {periodic[0], periodic[1], periodic[2]};
   c.box.open_top = sc.get(keys::top) == "open";
@@ -112,13 +127,21 @@ dem::Config dem_config(const Scene& sc) {
     dem::GroupConfig gc;
     gc.radius = sc.get(keys::group_radius, i);
     gc.density = sc.get(keys::group_density, i);
+    // A group's own value, else the system's (dem_keys.cpp: 0 or negative = not given).
     auto& p = gc.contact;
-    p.k1 = sc.get(keys::kn);
-    p.kt = sc.get(keys::kt);
-    const double e = sc.get(keys::group_e, i);
-    p.e = e > 0 ? e : sc.get(keys::e);
-    const double mu = sc.get(keys::group_mu, i);
-    p.mu = mu >= 0 ? mu : sc.get(keys::mu);
+    const auto own = [&](const Key<double>& key, bool zero_is_given) {
+      const double v = sc.get(key, i);
+      return (v > 0.0 || (zero_is_given && v == 0.0)) ? std::optional<double>(v) : std::nullopt;
+    };
+    p.k1 = own(keys::group_kn, false).value_or(sc.get(keys::kn));
+    p.kt = own(keys::group_kt, false).value_or(sc.get(keys::kt));
+    p.e = own(keys::group_e, false).value_or(sc.get(keys::e));
+    p.mu = own(keys::group_mu, true).value_or(sc.get(keys::mu));
+    p.k2 = own(keys::group_k2, false).value_or(sc.find(keys::k2).value_or(0.0));
+    p.gamma_n = own(keys::group_gamma_n, true).value_or(sc.find(keys::gamma_n).value_or(-1.0));
+    p.gamma_t = own(keys::group_gamma_t, true).value_or(sc.find(keys::gamma_t).value_or(-1.0));
+    p.damp_flag = sc.get(keys::dampflag);
+    p.walton_gamma = sc.get(keys::walton_gamma);
     if (sc.has(keys::vdw)) {
       p.hamaker = sc.get(keys::vdw_A);
       p.alpha_min = sc.get(keys::vdw_alpha_min);
@@ -161,7 +184,7 @@ dem::Config dem_config(const Scene& sc) {
     sites = dem::random_positions(c.box.lo, c.box.hi, rmax * c.growth_start, total,
                                   std::uint64_t(sc.get(run_keys::seed)));
   } else {
-    c.particles = particles_from_file(sc, counts);
+    c.particles = particles_from_file(sc, c, counts);
     return c;
   }
   std::size_t k = 0;

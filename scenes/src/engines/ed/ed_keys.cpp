@@ -11,6 +11,7 @@
 #include "scenes/src/engines/ed/ed_agents.hpp"
 #include "scenes/src/engines/memory_budget.hpp"
 #include "scenes/src/engines/ed/ed_keys.hpp"
+#include "scenes/src/engines/initial_file.hpp"
 #include "scenes/src/scene/scene.hpp"
 #include "scenes/src/scene/schema.hpp"
 #include "scenes/src/scene/toml_text.hpp"
@@ -76,18 +77,14 @@ void declare(Schema& s) {
   init.add_enum(initial_kind, {"lattice", "file"}, "lattice",
                 "a triangular lattice at area_fraction | n | N that melts, with Maxwell velocities at kT plus U; or "
                 "the disks of system.initial.file");
-  init.add_string(initial_file, "",
-                  "particle file for kind = \"file\" (a run's particles.xyz, extended XYZ or a LAMMPS dump), path "
-                  "relative to the scene file: positions, radii (none: σ/2), velocities (none: Maxwell at kT plus U), "
-                  "and the columns omega and mass when present; the disks must lie inside system.box without overlap")
-      .path();
-  init.add_int(initial_frame, -1, "which frame of the file: 0 the first, −1 the last (a run's final state)")
-      .at_least(-1);
+  initial_file::declare(init, "positions, radii (none: σ/2), velocities (none: Maxwell at kT plus U), spins "
+                              "(omega or omegaz) and masses when present; the disks must lie inside system.box "
+                              "without overlap");
   s.add_check([](const Scene& sc, SceneCheck& c) {
     const int given = int(sc.has(area_fraction)) + int(sc.has(n)) + int(sc.has(N));
     const bool from_file = sc.get(initial_kind) == "file";
-    if (from_file && sc.get(initial_file).empty())
-      c.fail(initial_file.path, "system.initial.kind = \"file\" needs system.initial.file = \"path\"");
+    if (from_file && sc.get(initial_file::file).empty())
+      c.fail(initial_file::file.path, "system.initial.kind = \"file\" needs system.initial.file = \"path\"");
     // With a file the density keys are not used (the runner says so when one is given, so
     // that `--set system.initial.kind=file` works on a scene written for the lattice).
     if (given > 1 || (!from_file && given != 1))

@@ -31,8 +31,7 @@ inline constexpr Key<double> cell_size{"system.cell_size"};
 // The initial state: the melting lattice (at area_fraction | n | N, Maxwell velocities at
 // kT plus U), or the disks of a particle file (a run's particles.xyz, an XYZ or LAMMPS dump).
 inline constexpr Key<std::string> initial_kind{"system.initial.kind"};
-inline constexpr Key<std::string> initial_file{"system.initial.file"};
-inline constexpr Key<std::int64_t> initial_frame{"system.initial.frame"};
+// system.initial.file, frame and ignore: initial_file.hpp, shared with the DEM engine.
 
 inline constexpr Key<std::array<bool, 2>> periodic{"boundary.periodic"};
 

@@ -1,6 +1,7 @@
 // `grainflow run` adapter of the 2D event-driven engine (engine/ed): its keys (ed_keys.hpp)
 // → ed::Config, frames of disks coloured by the attributes of kDiskAttributes, stats rows
 // from the engine's measurement window (seed 003 §4.1), and the engine's table row.
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <memory>
@@ -26,6 +27,7 @@
 #include "scenes/src/engines/engine_runner.hpp"
 #include "scenes/src/engines/engine_table.hpp"
 #include "scenes/src/engines/field_snapshot.hpp"
+#include "scenes/src/engines/initial_file.hpp"
 #include "scenes/src/engines/sampling.hpp"
 #include "scenes/src/scene/run_keys.hpp"
 #include "scenes/src/scene/scene.hpp"
@@ -72,48 +74,28 @@ ed::Config ed_config(const Scene& sc) {
 // fluid rather than from the lattice (seed 003 ch. 5). Velocities missing from the file are
 // drawn at system.kT plus U from the run's own stream.
 std::vector<ed::DiskInit> disks_from_file(const Scene& sc, const ed::Config& c) {
-  const std::string name = sc.get(keys::initial_file);
-  std::filesystem::path path(name);
-  if (path.is_relative() && !sc.source().empty()) path = sc.source().parent_path() / path;
-  const std::string what = "system.initial.file = \"" + name + "\"";
-  auto reader = io::open_particle_file(path.string());
-  const std::int64_t wanted = sc.get(keys::initial_frame);
-  core::ParticleFrame f, next;
-  std::int64_t frames = 0;
-  if (!reader->next(f)) throw Error(what + ": " + path.string() + " holds no particle frame");
-  ++frames;
-  // The last frame: read on while there is one (each frame is bounded by the reader).
-  for (; wanted < 0 || frames <= wanted; ++frames) {
-    if (!reader->next(next)) break;
-    std::swap(f, next);
-  }
-  if (wanted >= 0 && frames <= wanted)
-    throw Error(fmt::format("{}: system.initial.frame = {}, but the file holds {} frame(s); allowed: 0..{} or −1 "
-                            "(the last)", what, wanted, frames, frames - 1));
-  if (f.has_box) {
-    const double fx = f.box_hi[0] - f.box_lo[0], fy = f.box_hi[1] - f.box_lo[1];
-    if (std::abs(fx - c.lx) > 1e-9 * c.lx || std::abs(fy - c.ly) > 1e-9 * c.ly || f.box_lo[0] != 0 || f.box_lo[1] != 0)
-      throw Error(fmt::format("{}: the file's box is [{}, {}] × [{}, {}], the scene's system.box = [{}, {}] from 0; "
-                              "allowed: the same box", what, f.box_lo[0], f.box_hi[0], f.box_lo[1], f.box_hi[1], c.lx, c.ly));
-  }
-  const std::vector<double>* omega = f.column("omega");
-  if (!omega) omega = f.column("omegaz");
-  const std::vector<double>* mass = f.column("mass");
+  const initial_file::InitialParticles f = initial_file::read(sc, 2, Vec3::Zero(), Vec3(c.lx, c.ly, 0.0));
+  const int types = f.type.empty() ? 1 : *std::max_element(f.type.begin(), f.type.end());
+  if (types > 1 || (!f.type.empty() && *std::min_element(f.type.begin(), f.type.end()) != 1))
+    throw Error(f.what + ": the file has particle types 1.." + std::to_string(types) +
+                ", but the ED engine has one kind of disk (radius and mass per disk); list \"type\" in "
+                "system.initial.ignore to read them all as one kind");
   core::Rng rng(core::substream_seed(c.seed, 3));
   const double sd = std::sqrt(c.kT);
   std::vector<ed::DiskInit> disks(f.size());
   for (std::size_t i = 0; i < f.size(); ++i) {
     ed::DiskInit& d = disks[i];
     d.r = Vec2(f.position[i].x(), f.position[i].y());
-    d.radius = f.radius[i];
-    if (mass) d.mass = (*mass)[i];
-    if (f.has_velocity()) {
+    if (!f.radius.empty()) d.radius = f.radius[i];
+    if (!f.density.empty()) d.mass = f.density[i] * std::numbers::pi * d.radius * d.radius;  // LAMMPS 2d: per area
+    if (!f.mass.empty()) d.mass = f.mass[i];
+    if (!f.velocity.empty()) {
       d.v = Vec2(f.velocity[i].x(), f.velocity[i].y());
     } else {
       const double s = sd / std::sqrt(d.mass);
       d.v = Vec2(rng.normal(0.0, s), rng.normal(0.0, s)) + c.stream;
     }
-    if (omega) d.omega = (*omega)[i];
+    if (!f.omega.empty()) d.omega = f.omega[i].z();
   }
   return disks;
 }
@@ -130,7 +112,7 @@ std::unique_ptr<ed::Simulation> make_simulation(const Scene& sc) {
   try {
     return std::make_unique<ed::Simulation>(c, std::move(disks));
   } catch (const Error& e) {
-    throw Error("system.initial.file = \"" + sc.get(keys::initial_file) + "\": " + e.what());
+    throw Error("system.initial.file = \"" + sc.get(initial_file::file) + "\": " + e.what());
   }
 }
 
