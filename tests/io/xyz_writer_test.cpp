@@ -148,7 +148,7 @@ TEST(XyzWriter, VectorColumnsAreOneProperty) {
   EXPECT_EQ(again.str(), os.str()) << "written, read, written: the same text";
 }
 
-TEST(XyzWriter, Float32HalvesTheDigitsOfRealsOnly) {
+TEST(XyzWriter, Float32ShortensTheRealsOnly) {
   ParticleFrame f;
   f.has_box = true;
   f.box_hi = Vec3(0.1, 0.2, 0.3);

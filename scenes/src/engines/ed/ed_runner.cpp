@@ -98,6 +98,7 @@ std::vector<ed::DiskInit> disks_from_file(const Scene& sc, const ed::Config& c) 
   }
   const std::vector<double>* omega = f.column("omega");
   if (!omega) omega = f.column("omegaz");
+  if (!omega) omega = f.column("omega_z");  // omega:R:3, as particles.xyz writes it
   const std::vector<double>* mass = f.column("mass");
   core::Rng rng(core::substream_seed(c.seed, 3));
   const double sd = std::sqrt(c.kT);
@@ -243,8 +244,9 @@ public:
     for (int i = 0; i < sim_.size(); ++i) {
       if (!sim_.present(i)) continue;
       const ed::Disk& d = disks[i];
-      // The slot: a disk keeps it while it is in the box (an open stream reuses it later).
-      f.id.push_back(i + 1);
+      // The disk's persistent id, not its slot: an open stream gives a slot a disk left to
+      // a newcomer, which gets an id of its own (ed::SystemState::tag).
+      f.id.push_back(sim_.tag(i));
       f.type.push_back(1);
       f.position.emplace_back(d.x, d.y, 0.0);
       f.radius.push_back(d.r);
@@ -252,7 +254,12 @@ public:
       omega.push_back(d.w);
       mass.push_back(d.m);
     }
-    f.extra.emplace_back("omega", std::move(omega));
+    // The spin is ω_z: the vector (0, 0, ω), as OVITO's Angular Velocity and LAMMPS's
+    // omegax omegay omegaz of a 2D run.
+    const std::size_t n = omega.size();
+    f.extra.emplace_back("omegax", std::vector<double>(n, 0.0));
+    f.extra.emplace_back("omegay", std::vector<double>(n, 0.0));
+    f.extra.emplace_back("omegaz", std::move(omega));
     f.extra.emplace_back("mass", std::move(mass));
   }
 
