@@ -2,6 +2,7 @@
 // (random sequential addition jams near η ≈ 0.55 in 2D; seed 003 runs at η = 0.65), and
 // Maxwell velocities at kT with zero total momentum plus a stream velocity U.
 #pragma once
+#include <cstdint>
 #include <vector>
 
 #include "engine/core/rng.hpp"
@@ -15,6 +16,9 @@ struct DiskInit {
   double omega = 0.0;
   double radius = 0.5;  // σ = 1
   double mass = 1.0;
+  // The disk's persistent id (SystemState::tag); 0: numbered 1, 2, … in the given order.
+  // Either every disk of a set has one (distinct, positive) or none does.
+  std::int64_t tag = 0;
 };
 
 // n disks of the given diameter on a triangular lattice filling the box (centres kept

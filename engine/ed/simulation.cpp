@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <utility>
 
 #include <fmt/format.h>
 
@@ -98,6 +99,7 @@ void Simulation::build(std::vector<DiskInit> disks) {
     s_.grid.insert(i, s_.grid.cell_of_point(d.r.x(), d.r.y()));
   }
   s_.reset_slots();
+  assign_tags(disks);
   // Overlaps are an impossible configuration, not something to resolve silently.
   const double gap = min_gap();
   if (gap < -1e-9 * std::max(1.0, dmax))
@@ -115,6 +117,35 @@ void Simulation::build(std::vector<DiskInit> disks) {
     loop_ = std::make_unique<EventLoop<BucketCalendar>>(s_);
   restart();
   s_.reset_measurements();
+}
+
+// The disks' persistent ids: 1, 2, … in order, or the ones given (all or none, distinct,
+// positive); the next disk added gets one more than the largest.
+void Simulation::assign_tags(const std::vector<DiskInit>& disks) {
+  const std::size_t n = disks.size();
+  const std::size_t given =
+      static_cast<std::size_t>(std::count_if(disks.begin(), disks.end(), [](const DiskInit& d) { return d.tag != 0; }));
+  std::vector<std::int64_t> tags(n);
+  if (given == 0) {
+    for (std::size_t i = 0; i < n; ++i) tags[i] = static_cast<std::int64_t>(i) + 1;
+    s_.reset_tags(std::move(tags), static_cast<std::int64_t>(n) + 1);
+    return;
+  }
+  if (given != n)
+    throw Error(fmt::format("ed: {} of {} disks have an id; give every disk one or none", given, n));
+  std::vector<std::pair<std::int64_t, std::size_t>> sorted(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    if (disks[i].tag < 0)
+      throw Error(fmt::format("ed: disk {} has id {}; allowed: a positive id", i, disks[i].tag));
+    tags[i] = disks[i].tag;
+    sorted[i] = {disks[i].tag, i};
+  }
+  std::sort(sorted.begin(), sorted.end());
+  for (std::size_t k = 1; k < n; ++k)
+    if (sorted[k].first == sorted[k - 1].first)
+      throw Error(fmt::format("ed: disks {} and {} have the same id {}; allowed: distinct ids", sorted[k - 1].second,
+                              sorted[k].second, sorted[k].first));
+  s_.reset_tags(std::move(tags), n ? sorted.back().first + 1 : 1);
 }
 
 void Simulation::restart() {
@@ -141,14 +172,17 @@ void Simulation::compact(const std::vector<int>& kept) {
   std::vector<Disk> disks(static_cast<std::size_t>(n));
   std::vector<std::uint32_t> counters(static_cast<std::size_t>(n));
   std::vector<double> last(s_.last_collision.empty() ? 0 : static_cast<std::size_t>(n));
+  std::vector<std::int64_t> tags(static_cast<std::size_t>(n));
   for (int k = 0; k < n; ++k) {
     const int i = kept[k];
     disks[k] = s_.disk[i];
     counters[k] = s_.counter[i];
     states[k] = s_.slot[i];
+    tags[k] = s_.tag[i];  // the disk keeps its id in its new slot
     if (!last.empty()) last[k] = s_.last_collision[i];
   }
   s_.last_collision = std::move(last);
+  s_.reset_tags(std::move(tags), s_.next_tag());
   s_.disk.assign(disks.begin(), disks.end());
   s_.counter.assign(counters.begin(), counters.end());
   s_.grid = CellGrid(s_.grid.lx(), s_.grid.ly(), s_.grid.periodic_x(), s_.grid.periodic_y(),
@@ -320,7 +354,7 @@ double Simulation::min_gap() const {
 std::size_t Simulation::memory_bytes() const {
   const std::size_t n = s_.disk.capacity();
   const std::size_t per = sizeof(Disk) + 4 /*counter*/ +
-                          sizeof(NextEvent) + 1 /*slot*/;
+                          sizeof(NextEvent) + 1 /*slot*/ + sizeof(std::int64_t) /*tag*/;
   return n * per + s_.last_collision.capacity() * sizeof(double) + s_.grid.memory_bytes() + loop_->calendar_bytes();
 }
 

@@ -96,6 +96,7 @@ void SystemState::grow() {
   disk.resize(n1, Disk{});
   counter.resize(n1, 0u);
   slot.resize(n1, SlotState::absent);
+  tag.resize(n1, 0);
   if (!last_collision.empty()) last_collision.resize(n1, -kNever);
   grid.grow_particles(n1);
   // Event records exist once the loop has started; the timers' records follow the disk slots.
@@ -120,6 +121,7 @@ int SystemState::add_disk(const DiskInit& in) {
   const int i = free_.back();
   free_.pop_back();
   disk[i] = Disk{x, y, in.v.x(), in.v.y(), now_, in.radius, in.mass, in.omega};
+  tag[i] = next_tag_++;  // a newcomer, never the id of the slot's former disk
   if (static_cast<std::size_t>(i) < last_collision.size()) last_collision[i] = -kNever;  // a new disk
   ++counter[i];  // predictions that named this slot's former disk are stale
   slot[i] = SlotState::present;
@@ -270,6 +272,9 @@ void SystemState::save(io::ArchiveWriter& w) const {
   w.pod(tc.step);
   w.array(last_collision);
   w.array(overlap_log);
+  w.tag("ed.tags");
+  w.array(tag);
+  w.pod(next_tag_);
   w.tag("ed.cells");
   grid.save_members(w);
 }
@@ -313,10 +318,26 @@ SystemState::Saved SystemState::read_saved(io::ArchiveReader& r) const {
     r.corrupt(fmt::format("the TC model has e = {}, tau_tc = {}, tau_tc_step = {}", s.e, s.tc.tau, s.tc.step));
   if (!s.last_collision.empty() && s.last_collision.size() != n)
     r.corrupt(fmt::format("{} last-collision times for {} disk slots", s.last_collision.size(), n));
+  r.tag("ed.tags");
+  r.array_of(s.tag, n, "the persistent ids (tags)");
+  r.pod(s.next_tag);
   r.tag("ed.cells");
   s.cells = grid.read_members(r, ni);
 
   // Consistency: anything an index is taken from must point inside its array.
+  {
+    // Every disk present has its own id, below the next one to give.
+    std::vector<std::int64_t> tags;
+    for (std::size_t i = 0; i < n; ++i) {
+      if (s.slot[i] == SlotState::absent) continue;
+      if (s.tag[i] <= 0 || s.tag[i] >= s.next_tag)
+        r.corrupt(fmt::format("disk {} has id {}, outside 1 .. {}", i, s.tag[i], s.next_tag - 1));
+      tags.push_back(s.tag[i]);
+    }
+    std::sort(tags.begin(), tags.end());
+    if (auto d = std::adjacent_find(tags.begin(), tags.end()); d != tags.end())
+      r.corrupt(fmt::format("two disks have id {}", *d));
+  }
   int present = 0, frozen = 0;
   for (std::size_t i = 0; i < n; ++i) {
     const auto v = static_cast<std::uint8_t>(s.slot[i]);
@@ -415,6 +436,8 @@ void SystemState::restore(Saved&& s) noexcept {
   tc = s.tc;
   last_collision.swap(s.last_collision);
   overlap_log.swap(s.overlap_log);
+  tag.swap(s.tag);
+  next_tag_ = s.next_tag;
 }
 
 }  // namespace grainflow::ed

@@ -86,6 +86,20 @@ public:
   // in cache, where a record would cost a memory access per neighbour predicted.
   std::vector<std::uint32_t> counter;
   std::vector<SlotState> slot;
+  // Each slot's disk's persistent id, as LAMMPS calls it a tag: what particle files write
+  // as `id`. A disk keeps it for as long as it is in the system — through collisions,
+  // freezing, turning back at an outlet or a filter, and renumbering of slots (compaction,
+  // Simulation::reorder_disks) —, and a disk added later (an inlet, the dispenser) gets
+  // the next one never used, even when it takes the slot of a disk that left: an id names
+  // one disk's whole stay, never two disks, so a trajectory followed by id never jumps.
+  // Bookkeeping only: no event depends on it. 0 in a slot never used.
+  std::vector<std::int64_t> tag;
+  std::int64_t next_tag() const { return next_tag_; }
+  // Sets the tags of the size() disks built (the builder): 1, 2, … or the given ones.
+  void reset_tags(std::vector<std::int64_t> tags, std::int64_t next) {
+    tag = std::move(tags);
+    next_tag_ = next;
+  }
   int size() const { return static_cast<int>(disk.size()); }
 
   // Disks enter and leave (open stream boundaries, seed 003 §3.2–3.3). Ids are slots:
@@ -245,7 +259,8 @@ public:
   // runs: kept, and settled when the next run starts, as without the checkpoint), the
   // stats, the cell map's membership, and the TC model's state (the normal restitution as
   // it stands — Simulation::set_restitution may change it —, cutoff and step, the
-  // last-collision times, the overlap log). Not saved: the grid geometry, the rest of the
+  // last-collision times, the overlap log), and every slot's persistent id (tag) with the
+  // next one to give. Not saved: the grid geometry, the rest of the
   // collision rule, agents and their cell lists, which the identical construction rebuilds.
   struct Saved {
     double now = 0.0, kin = 0.0, rot = 0.0, px = 0.0, py = 0.0, mtot = 0.0, dmin = 0.0, dmax = 0.0;
@@ -263,6 +278,8 @@ public:
     TimeCutoff tc;
     std::vector<double> last_collision;
     std::vector<OverlapRemoval> overlap_log;
+    std::vector<std::int64_t> tag;
+    std::int64_t next_tag = 1;
   };
   void save(io::ArchiveWriter& w) const;
   // Reads what save() wrote into a separate record, checked against this state (grid
@@ -283,6 +300,7 @@ private:
   double kin_ = 0.0, rot_ = 0.0, px_ = 0.0, py_ = 0.0, mtot_ = 0.0;
   int n_present_ = 0, n_frozen_ = 0;
   double dmin_ = 0.0, dmax_ = kNever;
+  std::int64_t next_tag_ = 1;  // the id the next disk added gets
   std::vector<int> touched_, free_, added_;
   std::vector<int> rescheduled_;  // timers to ask again (reschedule)
   std::vector<Removal> removed_;

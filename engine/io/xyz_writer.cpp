@@ -3,12 +3,8 @@
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <cerrno>
 #include <cmath>
-#include <cstring>
 #include <iterator>
-
-#include "engine/core/error.hpp"
 
 namespace grainflow::io {
 namespace {
@@ -20,7 +16,7 @@ std::string clean_name(std::string_view name) {
   return s.empty() ? std::string("_") : s;
 }
 
-void format_frame(std::string& out, const ParticleFrame& f) {
+void format_frame(std::string& out, const ParticleFrame& f, Precision prec) {
   f.check_consistent("write_xyz");
   auto it = std::back_inserter(out);
   const std::size_t n = f.size();
@@ -43,55 +39,50 @@ void format_frame(std::string& out, const ParticleFrame& f) {
     fmt::format_to(it, "pbc=\"{} {} {}\" ", f.periodic[0] ? 'T' : 'F', f.periodic[1] ? 'T' : 'F',
                    f.periodic[2] ? 'T' : 'F');
   }
-  out += "Properties=species:S:1:pos:R:3:radius:R:1";
+  const bool named = !f.type_names.empty();
+  out += named ? "Properties=species:S:1:id:I:1" : "Properties=id:I:1:type:I:1";
+  out += ":pos:R:3:radius:R:1";
   if (f.has_velocity()) out += ":velo:R:3";
-  out += ":id:I:1";
-  for (const auto& e : f.extra) fmt::format_to(it, ":{}:R:1", clean_name(e.first));
+  const std::vector<ExtraColumn> extra = extra_columns(f);
+  for (const auto& e : extra) fmt::format_to(it, ":{}:R:{}", clean_name(e.name), e.components);
   if (!std::isnan(f.time)) fmt::format_to(it, " Time={}", f.time);
   if (f.timestep >= 0) fmt::format_to(it, " Timestep={}", f.timestep);
   out += '\n';
+  auto real = [&](double v) {
+    out += ' ';
+    append_real(out, v, prec);
+  };
   for (std::size_t i = 0; i < n; ++i) {
     const int t = f.type[i];
-    if (t >= 1 && static_cast<std::size_t>(t) <= f.type_names.size()) out += f.type_names[t - 1];
-    else fmt::format_to(it, "{}", t);
+    if (named) {
+      if (t >= 1 && static_cast<std::size_t>(t) <= f.type_names.size()) out += f.type_names[t - 1];
+      else fmt::format_to(it, "{}", t);
+      fmt::format_to(it, " {}", f.id[i]);
+    } else {
+      fmt::format_to(it, "{} {}", f.id[i], t);
+    }
     const Vec3& p = f.position[i];
-    fmt::format_to(it, " {} {} {} {}", p.x(), p.y(), p.z(), f.radius[i]);
+    real(p.x()), real(p.y()), real(p.z()), real(f.radius[i]);
     if (f.has_velocity()) {
       const Vec3& v = f.velocity[i];
-      fmt::format_to(it, " {} {} {}", v.x(), v.y(), v.z());
+      real(v.x()), real(v.y()), real(v.z());
     }
-    fmt::format_to(it, " {}", f.id[i]);
-    for (const auto& e : f.extra) fmt::format_to(it, " {}", e.second[i]);
+    for (const auto& e : extra)
+      for (int k = 0; k < e.components; ++k) real((*e.values[k])[i]);
     out += '\n';
   }
 }
 
 }  // namespace
 
-void write_xyz_frame(std::ostream& out, const ParticleFrame& frame) {
+void write_xyz_frame(std::ostream& out, const ParticleFrame& frame, Precision precision) {
   std::string s;
-  format_frame(s, frame);
+  format_frame(s, frame, precision);
   out << s;
 }
 
-XyzWriter::XyzWriter(const std::string& path) : file_(PartialFile::create(path)) {}
-
-XyzWriter::XyzWriter(const std::string& path, std::uint64_t resume_size, int resume_frames)
-    : file_(PartialFile::resume(path, resume_size)), frames_(resume_frames) {}
-
-void XyzWriter::write(const ParticleFrame& frame) {
-  if (file_.finished()) throw Error(file_.final_path().string() + ": XYZ write after close()");
-  buf_.clear();
-  format_frame(buf_, frame);
-  file_.write(buf_);
-  ++frames_;
+void XyzWriter::format(std::string& out, const ParticleFrame& frame, std::int64_t) const {
+  format_frame(out, frame, precision());
 }
-
-std::uint64_t XyzWriter::flush() {
-  file_.flush();
-  return file_.size();
-}
-
-void XyzWriter::close() { file_.finish(); }
 
 }  // namespace grainflow::io

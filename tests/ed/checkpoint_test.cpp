@@ -120,11 +120,14 @@ void expect_same_run(const ed::Simulation& a, const ed::Simulation& b, bool with
   EXPECT_EQ(bits(a.state().rotational()), bits(b.state().rotational()));
   EXPECT_EQ(bits(a.state().momentum().x()), bits(b.state().momentum().x()));
   EXPECT_EQ(bits(a.state().momentum().y()), bits(b.state().momentum().y()));
-  int slots_differ = 0, disks_differ = 0, counters_differ = 0, first = -1;
+  // The persistent ids, and the one the next newcomer gets.
+  EXPECT_EQ(a.state().next_tag(), b.state().next_tag());
+  int slots_differ = 0, disks_differ = 0, counters_differ = 0, tags_differ = 0, first = -1;
   for (int i = 0; i < a.size(); ++i) {
     bool differ = false;
     if (a.state().slot[i] != b.state().slot[i]) ++slots_differ, differ = true;
     if (a.state().counter[i] != b.state().counter[i]) ++counters_differ, differ = true;
+    if (a.present(i) && a.tag(i) != b.tag(i)) ++tags_differ, differ = true;
     // x, y, vx, vy, t, r, m, w of the disks present (Disk has no padding).
     if (a.present(i) && std::memcmp(&a.disks()[i], &b.disks()[i], sizeof(ed::Disk)) != 0) ++disks_differ, differ = true;
     if (differ && first < 0) first = i;
@@ -132,6 +135,7 @@ void expect_same_run(const ed::Simulation& a, const ed::Simulation& b, bool with
   EXPECT_EQ(slots_differ, 0) << "first slot that differs: " << first;
   EXPECT_EQ(disks_differ, 0) << "first slot that differs: " << first;
   EXPECT_EQ(counters_differ, 0) << "first slot that differs: " << first;
+  EXPECT_EQ(tags_differ, 0) << "first slot that differs: " << first;
 }
 
 template <class T>

@@ -111,8 +111,70 @@ TEST(XyzWriter, HeaderCarriesRadiusLatticeTime) {
   EXPECT_EQ(os.str(),
             "1\n"
             "Lattice=\"4 0 0 0 2 0 0 0 1\" Origin=\"0 0 -0.5\" pbc=\"T T F\" "
-            "Properties=species:S:1:pos:R:3:radius:R:1:velo:R:3:id:I:1:bad_name_x:R:1 Time=0.25\n"
-            "1 1 1 0 0.5 0.1 0 0 1 3\n");
+            "Properties=id:I:1:type:I:1:pos:R:3:radius:R:1:velo:R:3:bad_name_x:R:1 Time=0.25\n"
+            "1 1 1 1 0 0.5 0.1 0 0 3\n");
+}
+
+// Spins as OVITO and ASE take them: omegax omegay omegaz (or omega_x …, what the reader
+// makes of omega:R:3) become one omega:R:3; a lone "omegaz" stays a scalar.
+TEST(XyzWriter, VectorColumnsAreOneProperty) {
+  ParticleFrame f;
+  f.id = {7, 9};
+  f.type = {1, 2};
+  f.position = {Vec3(1, 2, 3), Vec3(4, 5, 6)};
+  f.radius = {0.5, 0.25};
+  f.extra = {{"omegax", {1, 2}}, {"omegay", {3, 4}}, {"omegaz", {5, 6}}, {"mass", {1, 1}},
+             {"f_x", {0, 0}}, {"f_y", {0, 0}}, {"f_z", {-1, -2}}, {"cz", {8, 9}}};
+  std::ostringstream os;
+  write_xyz_frame(os, f);
+  EXPECT_EQ(os.str(),
+            "2\n"
+            "Properties=id:I:1:type:I:1:pos:R:3:radius:R:1:omega:R:3:mass:R:1:f:R:3:cz:R:1\n"
+            "7 1 1 2 3 0.5 1 3 5 1 0 0 -1 8\n"
+            "9 2 4 5 6 0.25 2 4 6 1 0 0 -2 9\n");
+  // Read back: the vector's components under the reader's names, the values unchanged.
+  const std::string path = std::string(GRAINFLOW_TEST_OUT) + "/vectors.xyz";
+  std::filesystem::create_directories(GRAINFLOW_TEST_OUT);
+  std::ofstream(path) << os.str();
+  XyzReader r(path);
+  ParticleFrame g;
+  ASSERT_TRUE(r.next(g));
+  EXPECT_EQ(g.id, f.id);
+  EXPECT_EQ(g.type, f.type);
+  ASSERT_NE(g.column("omega_z"), nullptr);
+  EXPECT_EQ(*g.column("omega_z"), (std::vector<double>{5, 6}));
+  std::ostringstream again;
+  write_xyz_frame(again, g);
+  EXPECT_EQ(again.str(), os.str()) << "written, read, written: the same text";
+}
+
+TEST(XyzWriter, Float32ShortensTheRealsOnly) {
+  ParticleFrame f;
+  f.has_box = true;
+  f.box_hi = Vec3(0.1, 0.2, 0.3);
+  f.time = 0.1;
+  f.id = {123456789};
+  f.type = {3};
+  f.position = {Vec3(0.1, 1.0 / 3.0, 2.0)};
+  f.radius = {0.05};
+  f.velocity = {Vec3(1e-20, -7.25, 0)};
+  std::ostringstream os;
+  write_xyz_frame(os, f, Precision::float32);
+  EXPECT_EQ(os.str(),
+            "1\n"
+            "Lattice=\"0.1 0 0 0 0.2 0 0 0 0.3\" Origin=\"0 0 0\" pbc=\"F F F\" "
+            "Properties=id:I:1:type:I:1:pos:R:3:radius:R:1:velo:R:3 Time=0.1\n"
+            "123456789 3 0.1 0.33333334 2 0.05 1e-20 -7.25 0\n");
+  // Each real, parsed as a float, is the float nearest the double written.
+  const std::string path = std::string(GRAINFLOW_TEST_OUT) + "/float32.xyz";
+  std::filesystem::create_directories(GRAINFLOW_TEST_OUT);
+  std::ofstream(path) << os.str();
+  XyzReader r(path);
+  ParticleFrame g;
+  ASSERT_TRUE(r.next(g));
+  EXPECT_EQ(float(g.position[0].y()), float(1.0 / 3.0));
+  EXPECT_EQ(float(g.velocity[0].x()), float(1e-20));
+  EXPECT_EQ(g.id[0], 123456789);
 }
 
 TEST(XyzWriter, TriclinicAndDumpRoundTrip) {

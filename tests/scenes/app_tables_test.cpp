@@ -133,6 +133,9 @@ std::vector<Case> cases(const fs::path& dir) {
        {"system.initial.kind=\"file\"", "system.initial.file=\"" + xyz.string() + "\"", "system.group[0].N=2",
         "output.pair_csv=true", "output.png=false", "system.dt=1.0e-6"}},
       {steps_instead_of_until(kDem) + kRender, {"output.png=false", "output.mp4=false"}},
+      // output.particles_precision is read only when a particle file is written.
+      {kDem + kRender, {"output.lammps_dump=true", "output.particles_precision=\"float32\"", "output.png=false",
+                        "output.mp4=false"}},
   };
 }
 

@@ -565,7 +565,7 @@ TEST(CliRun, DemCouetteTopLayerFollowsTheSlidingWall) {
                        " --set output.mp4=false --set output.particles=true --set render.color_by=vx"
                        " --set 'render.size=[64,32]'");
   ASSERT_EQ(r.status, 0) << r.output;
-  // Last frame of particles.xyz: columns species x y z radius vx vy vz id ….
+  // Last frame of particles.xyz: columns id type x y z radius vx vy vz ….
   std::ifstream in(out / "particles.xyz");
   std::string line, last_header;
   std::vector<std::array<double, 2>> zvx;  // (z, vx) of the last frame
@@ -575,9 +575,10 @@ TEST(CliRun, DemCouetteTopLayerFollowsTheSlidingWall) {
     std::getline(in, last_header);
     zvx.clear();
     for (std::size_t i = 0; i < n && std::getline(in, line); ++i) {
-      char species[16];
+      long long id;
+      int type;
       double x, y, z, rad, vx;
-      ASSERT_EQ(std::sscanf(line.c_str(), "%15s %lf %lf %lf %lf %lf", species, &x, &y, &z, &rad, &vx), 6) << line;
+      ASSERT_EQ(std::sscanf(line.c_str(), "%lld %d %lf %lf %lf %lf %lf", &id, &type, &x, &y, &z, &rad, &vx), 7) << line;
       zvx.push_back({z, vx});
     }
   }
@@ -783,6 +784,12 @@ void expect_kill_and_resume_match(const std::string& name, const std::string& sc
   // Rows continue without a gap or a repeat, to the last bit.
   EXPECT_EQ(read_file(killed / "stats.csv"), read_file(ref / "stats.csv"));
   EXPECT_FALSE(fs::exists(killed / "stats.csv.partial"));
+  // So do the particle files, persistent ids included.
+  for (const char* file : {"particles.xyz", "particles.lammpstrj"}) {
+    if (!fs::exists(ref / file)) continue;
+    EXPECT_TRUE(read_file(killed / file) == read_file(ref / file)) << file << " differs after the resume";
+    EXPECT_FALSE(fs::exists(killed / (std::string(file) + ".partial"))) << file;
+  }
   // The frames continue their numbering and draw the same pictures.
   EXPECT_EQ(count_frames(killed), count_frames(ref));
   for (const auto& e : fs::directory_iterator(ref / "frames"))
@@ -799,7 +806,8 @@ TEST(CliRun, KilledEdStreamResumesToTheSameBits) {
   // The dispenser, the filter and the obstacle, with a checkpoint every two frames.
   expect_kill_and_resume_match("resume_ed",
                                "run " + scenes + "/obstacle_quick.toml --set run.until=160 --set sample.exposure=8 "
-                               "--set output.checkpoint_every=16 --set render.size=[160,96] --set output.particles=true",
+                               "--set output.checkpoint_every=16 --set render.size=[160,96] --set output.particles=true "
+                               "--set output.lammps_dump=true",
                                SIGKILL, "obstacle_quick.mp4");
 }
 

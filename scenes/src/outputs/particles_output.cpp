@@ -1,51 +1,39 @@
-// DIR/particles.xyz (output.particles): every frame's particles as extended XYZ with box,
-// periodic axes, ids, groups (type), radii, velocities, spins and masses at full precision
-// (shortest round-trip text), for OVITO and ParaView, and to start a run from
-// (system.initial.file).
-#include <optional>
-
-#include "engine/io/archive.hpp"
+// DIR/particles.xyz (output.particles): every frame's particles as extended XYZ that OVITO
+// and ASE read as they are — persistent ids, groups (type), positions, radii, velocities,
+// spins (omega) and masses, box, periodic axes and time — at float64 (exact: the file
+// reads back bit for bit, and a run can start from it, system.initial.file) or float32
+// (output.particles_precision). The precision key, shared with particles.lammpstrj, is
+// declared here.
 #include "engine/io/xyz_writer.hpp"
 #include "scenes/src/outputs/output_table.hpp"
+#include "scenes/src/outputs/particle_file_output.hpp"
 #include "scenes/src/outputs/run_record.hpp"
 #include "scenes/src/scene/scene.hpp"
 
 namespace grainflow::scenes {
+
+io::Precision particle_precision(const Scene& scene) {
+  return scene.get(particles_precision) == "float32" ? io::Precision::float32 : io::Precision::float64;
+}
+
 namespace {
 
 constexpr Key<bool> particles{"output.particles"};
 
-class ParticlesOutput final : public RunOutput {
-public:
-  explicit ParticlesOutput(std::filesystem::path file) : file_(std::move(file)) {}
-  void start(const RunRecord&) override { writer_.emplace(file_.string()); }
-  void checkpoint(io::ArchiveWriter& w) override {
-    w.tag("particles.xyz");
-    w.pod(writer_->flush());
-    w.pod(writer_->frames());
-  }
-  void resume(io::ArchiveReader& r, const RunRecord&) override {
-    r.tag("particles.xyz");
-    const auto size = r.get<std::uint64_t>();
-    writer_.emplace(file_.string(), size, r.get<int>());
-  }
-  bool wants_particles() const override { return true; }
-  void particles(std::int64_t, const core::ParticleFrame& f) override { writer_->write(f); }
-  void finish(const RunRecord&) override { writer_->close(); }
-
-private:
-  std::filesystem::path file_;
-  std::optional<io::XyzWriter> writer_;
-};
-
 void declare(Schema& s) {
-  s.table("output").add_bool(particles, false, "write every frame's particles (ids, positions, radii, velocities, spins) to particles.xyz (OVITO-readable)");
+  auto& t = s.table("output");
+  t.add_bool(particles, false,
+             "write every frame's particles (persistent ids, groups as type, positions, radii, velocities, spins, "
+             "masses) to particles.xyz, extended XYZ that OVITO and ASE read");
+  t.add_enum(particles_precision, {"float64", "float32"}, "float64",
+             "real numbers in particles.xyz and particles.lammpstrj: float64 (exact, reads back bit for bit) or "
+             "float32 (7 significant digits, about 2/3 of the size)");
 }
 
 std::unique_ptr<RunOutput> open(const OutputContext& c) {
   if (!c.scene.get(particles)) return nullptr;
   c.claim("particles.xyz");
-  return std::make_unique<ParticlesOutput>(c.dir / "particles.xyz");
+  return std::make_unique<ParticleFileOutput<io::XyzWriter>>(c.dir / "particles.xyz", particle_precision(c.scene));
 }
 
 }  // namespace

@@ -365,6 +365,8 @@ public:
     const std::size_t n = sim_.size();
     std::vector<double> wx(n), wy(n), wz(n), mass(n);
     for (std::size_t i = 0; i < n; ++i) {
+      // Persistent: the DEM engine never adds, removes or reorders particles, so the
+      // index a particle was built with stays its own for the whole run (and its resumes).
       f.id.push_back(std::int64_t(i + 1));
       f.type.push_back(sim_.group(i) + 1);
       f.position.push_back(sim_.position(i));

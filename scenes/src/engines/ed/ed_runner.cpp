@@ -231,8 +231,9 @@ public:
     for (int i = 0; i < sim_.size(); ++i) {
       if (!sim_.present(i)) continue;
       const ed::Disk& d = disks[i];
-      // The slot: a disk keeps it while it is in the box (an open stream reuses it later).
-      f.id.push_back(i + 1);
+      // The disk's persistent id, not its slot: an open stream gives a slot a disk left to
+      // a newcomer, which gets an id of its own (ed::SystemState::tag).
+      f.id.push_back(sim_.tag(i));
       f.type.push_back(1);
       f.position.emplace_back(d.x, d.y, 0.0);
       f.radius.push_back(d.r);
@@ -240,7 +241,12 @@ public:
       omega.push_back(d.w);
       mass.push_back(d.m);
     }
-    f.extra.emplace_back("omega", std::move(omega));
+    // The spin is ω_z: the vector (0, 0, ω), as OVITO's Angular Velocity and LAMMPS's
+    // omegax omegay omegaz of a 2D run.
+    const std::size_t n = omega.size();
+    f.extra.emplace_back("omegax", std::vector<double>(n, 0.0));
+    f.extra.emplace_back("omegay", std::vector<double>(n, 0.0));
+    f.extra.emplace_back("omegaz", std::move(omega));
     f.extra.emplace_back("mass", std::move(mass));
   }
 
