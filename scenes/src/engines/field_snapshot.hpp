@@ -1,12 +1,18 @@
 // Binned fields (engine/core/binning) → the named fields a Snapshot carries for the
-// field panels. The one mapping of field names used by `render` and `run`: "density",
-// "temperature" (kT), "speed" (<|v|>), "fraction", and the mean velocity.
+// field panels and the field files. The one mapping of field names used by `render` and
+// `run`: "density", "temperature" (kT), "speed" (<|v|>), "fraction", "samples"
+// (particle-samples per bin), "open_fraction" (the part of each bin open to particle
+// centres: 1 unless the runner says otherwise, as the ED runner does around its
+// obstacle), and the mean velocity.
 #pragma once
+#include <optional>
+
 #include "engine/core/binning.hpp"
 #include "render/snapshot.hpp"
 
 namespace grainflow::scenes {
 
-void set_binned_fields(core::BinnedFields fields, render::Snapshot& s);
+void set_binned_fields(core::BinnedFields fields, render::Snapshot& s,
+                       std::optional<render::FieldExposure> exposure = std::nullopt);
 
 }  // namespace grainflow::scenes

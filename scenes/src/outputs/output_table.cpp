@@ -11,12 +11,13 @@ OutputEntry png_output();
 OutputEntry mp4_output();
 OutputEntry particles_output();
 OutputEntry stats_output();
+OutputEntry fields_output();
 OutputEntry run_json_output();
 
 std::span<const OutputEntry> outputs() {
   // run.json last: it is finished once every other file is in place, and records that.
-  static const std::array<OutputEntry, 5> table = {png_output(), mp4_output(), particles_output(), stats_output(),
-                                                   run_json_output()};
+  static const std::array<OutputEntry, 6> table = {png_output(), mp4_output(), particles_output(), stats_output(),
+                                                   fields_output(), run_json_output()};
   return table;
 }
 
