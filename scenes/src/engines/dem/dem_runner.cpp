@@ -364,7 +364,7 @@ public:
   // Every column is the state at the row's time (no window).
   std::vector<StatsColumn> stats_columns() const override {
     return {{"step", "1", "time steps taken since the start"},
-            {"N", "1", "particles"},
+            {"N", "1", "particles in the system (the DEM engine neither inserts nor removes any)"},
             {"kinetic_energy", "J", "Σ m|v|²/2, velocities at the full step (v_n = v_{n−1/2} + Δt F_n/(2m), seed 000 Eq. 2.19)"},
             {"rotational_energy", "J", "Σ I|ω|²/2"},
             {"potential_energy", "J", "gravitational potential energy Σ −m g·x (zero at the origin)"},
