@@ -29,6 +29,14 @@ struct NamedField {
   core::ScalarField field;
 };
 
+// Where a Snapshot's binned fields come from, for files of them (output.fields): the
+// exposure they average over and the plane of the box their grid lies in.
+struct FieldExposure {
+  double t_begin = 0, t_end = 0;  // the exposure window [t_begin, t_end]
+  int samples = 0;                // snapshots of the particles binned over it
+  std::array<int, 2> axes{0, 1};  // the box axes (0 x, 1 y, 2 z) of the grid's u and v
+};
+
 struct Snapshot {
   int dim = 2;                        // 2: disks in the x–y plane; 3: spheres
   Eigen::Vector3d lo{0, 0, 0};        // domain box
@@ -51,6 +59,8 @@ struct Snapshot {
   std::optional<core::VectorField> velocity;
   // The stream velocity U: streamline panels may draw the flow relative to it.
   std::optional<Eigen::Vector2d> reference_velocity;
+  // Set with the fields by a run (not by `grainflow render`): the exposure that made them.
+  std::optional<FieldExposure> exposure;
   // Caption line under the panels: `caption` when set, else "key = value" pairs joined
   // (e.g. {"t", "120"}, {"U", "0.1"}, {"Re", "40"}, {"τ_E", "480"}, {"N", "160000"}).
   std::string caption;

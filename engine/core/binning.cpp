@@ -1,6 +1,7 @@
 #include "engine/core/binning.hpp"
 
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <string>
 
@@ -206,7 +207,7 @@ ScalarField BinAccumulator::mean_speed() const {
 BinnedFields bin_frame(const ParticleFrame& frame, const BinningOptions& options) {
   BinAccumulator acc(options);
   acc.add(frame);
-  BinnedFields out{acc.density(), {}, {}, {}, {}};
+  BinnedFields out{acc.density(), {}, {}, {}, {}, acc.counts()};
   const int w = options.plane == BinPlane::xy ? 2 : options.plane == BinPlane::xz ? 1 : 0;
   if (frame.dim == 2 || options.slab_lo || (frame.has_box && frame.box_hi[w] > frame.box_lo[w]))
     out.fraction = acc.fraction();
@@ -251,6 +252,31 @@ void BinAccumulator::set_state(const State& st) {
   speed_ = st.speed;
   msq_ = st.msq;
   for (std::size_t i = 0; i < n; ++i) mom_[i] = Vec3(st.mom[3 * i], st.mom[3 * i + 1], st.mom[3 * i + 2]);
+}
+
+ScalarField vorticity(const VectorField& v) {
+  const GridGeometry& g = v.grid;
+  ScalarField out(g, std::numeric_limits<double>::quiet_NaN());
+  // d/d(axis) of component c at (ix, iy): central where both neighbours are valid, else
+  // one-sided with the valid one (and this bin), else unknown.
+  auto derivative = [&](int ix, int iy, int dx, int dy, int c, double h, double& d) {
+    const int ax = ix - dx, ay = iy - dy, bx = ix + dx, by = iy + dy;
+    const bool a = ax >= 0 && ay >= 0 && v.valid(ax, ay), b = bx < g.nx && by < g.ny && v.valid(bx, by);
+    if (a && b) d = (v.at(bx, by)[c] - v.at(ax, ay)[c]) / (2 * h);
+    else if (b) d = (v.at(bx, by)[c] - v.at(ix, iy)[c]) / h;
+    else if (a) d = (v.at(ix, iy)[c] - v.at(ax, ay)[c]) / h;
+    else return false;
+    return true;
+  };
+  for (int iy = 0; iy < g.ny; ++iy)
+    for (int ix = 0; ix < g.nx; ++ix) {
+      double dv_du = 0, du_dv = 0;
+      const bool ok = v.valid(ix, iy) && derivative(ix, iy, 1, 0, 1, g.dx(), dv_du) &&
+                      derivative(ix, iy, 0, 1, 0, g.dy(), du_dv);
+      out.mask[g.index(ix, iy)] = ok;
+      if (ok) out.at(ix, iy) = dv_du - du_dv;
+    }
+  return out;
 }
 
 }  // namespace grainflow::core

@@ -112,7 +112,15 @@ struct BinnedFields {
   std::optional<VectorField> mean_velocity;     // when velocities are known
   std::optional<ScalarField> temperature;
   std::optional<ScalarField> mean_speed;
+  // Particle-samples per bin over the frames binned (the field files' sample counts).
+  std::vector<std::uint64_t> counts;
 };
+
+// The vorticity of a mean-velocity field about the grid's normal: ω = ∂V/∂u − ∂U/∂v with
+// (U, V) the components along the grid's axes (u, v), by central differences between
+// valid neighbours (one-sided at an edge or beside a masked bin; masked when neither
+// neighbour along an axis is valid). Not periodic: edge bins use one-sided differences.
+ScalarField vorticity(const VectorField& velocity);
 
 // The fields of one instantaneous frame.
 BinnedFields bin_frame(const ParticleFrame& frame, const BinningOptions& options);

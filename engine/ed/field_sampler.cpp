@@ -119,6 +119,7 @@ void FieldSampler::action(SystemState& s) {
     f.fields.mean_velocity = acc_.mean_velocity();
     f.fields.temperature = acc_.temperature();
     f.fields.mean_speed = acc_.mean_speed();
+    f.fields.counts = acc_.counts();
     frames_.push_back(std::move(f));
     acc_.reset();
     t_begin_ = s.now();
@@ -143,6 +144,7 @@ void FieldSampler::save(io::ArchiveWriter& w) const {
     write_optional(w, f.fields.mean_velocity);
     write_optional(w, f.fields.temperature);
     write_optional(w, f.fields.mean_speed);
+    w.array(f.fields.counts);
   }
 }
 
@@ -169,6 +171,7 @@ void FieldSampler::load(io::ArchiveReader& r) {
     read_optional(r, f.fields.mean_velocity);
     read_optional(r, f.fields.temperature);
     read_optional(r, f.fields.mean_speed);
+    r.array_of(f.fields.counts, cfg_.grid.size(), "the sampled frame's bin counts");
   }
 }
 

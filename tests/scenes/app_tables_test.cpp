@@ -9,12 +9,14 @@
 #include <fstream>
 #include <map>
 #include <set>
+#include <sstream>
 #include <string>
 #include <vector>
 
 #include "engine/dem/contact_params.hpp"
 #include "render/layers/colormap.hpp"
 #include "render/panel_layout.hpp"
+#include "scenes/src/engines/engine_runner.hpp"
 #include "scenes/src/engines/engine_table.hpp"
 #include "scenes/src/outputs/output_table.hpp"
 #include "scenes/src/run/run_loop.hpp"
@@ -109,7 +111,7 @@ std::vector<Case> cases(const fs::path& dir) {
                        "system.initial.frame=0", "output.mp4=false", "output.png=false"}},
       {kEd + kRender + "[boundary.obstacle]\nD = 4.0\nx = 12.0\ny = 12.0\n",
        {"system.N=60", "boundary.periodic=[false, true]", "boundary.stream.kind=\"dispenser_filter\"", "system.U=0.5",
-        "output.png=false"}},
+        "output.png=false", "output.fields=true"}},
       {kEd + kRender, {"system.N=40", "boundary.periodic=[false, true]", "boundary.stream.kind=\"low_density\"",
                        "system.U=0.5", "output.png=false", "output.mp4=false"}},
       // The thermostat's keys are read only when [thermostat] is on.
@@ -126,7 +128,7 @@ std::vector<Case> cases(const fs::path& dir) {
         "output.mp4=false"}},
       {kEd + kRender + "[boundary.walls]\nkind = \"noslip_flip\"\nr = 0.9\n",
        {"system.area_fraction=0.3", "boundary.periodic=[true, false]", "output.png=false", "output.mp4=false"}},
-      {kDem + kRender, {"system.initial.kind=\"lattice\"", "output.particles=true", "render.color_by=\"group\"",
+      {kDem + kRender, {"system.initial.kind=\"lattice\"", "output.particles=true", "output.fields=true", "render.color_by=\"group\"",
                         "render.layout=[2, 1]", "render.panels=[\"density\", \"temperature\"]",
                         "render.ranges.density=[0.0, 1.0]"}},
       {kDem + kRender + "[system.vdw]\nA = 1.0e-19\n",
@@ -194,4 +196,48 @@ TEST(AppTables, EveryDeclaredKeyIsReadBySomething) {
     for (const auto& k : unread) list += " " + k;
     EXPECT_TRUE(unread.empty()) << e.name << ": declared but read by nothing:" << list;
   }
+}
+
+// stats.json: every column a runner reports — the engines' own and every agent's, over
+// cases that attach every agent — has a unit and a definition, and each name is unique.
+// A column added without them fails here.
+TEST(AppTables, EveryStatsColumnIsDocumented) {
+  const fs::path dir = fresh("stats_docs");
+  std::set<std::string> seen;
+  for (const auto& c : cases(dir)) {
+    const Scene s = parse_scene(c.text, "case.toml", c.overrides);
+    const auto runner = find_engine(s.engine())->make_runner(s);
+    std::set<std::string> names;
+    for (const auto& col : runner->stats_columns()) {
+      EXPECT_FALSE(col.name.empty());
+      EXPECT_TRUE(names.insert(col.name).second) << s.engine() << ": column " << col.name << " twice";
+      EXPECT_FALSE(col.unit.empty()) << s.engine() << ": column " << col.name << " has no unit";
+      EXPECT_GT(col.definition.size(), 10u) << s.engine() << ": column " << col.name << " has no definition";
+      seen.insert(s.engine() + "." + col.name);
+    }
+  }
+  // The cases reach the agents' columns (else the check above would miss them).
+  for (const char* name : {"ed.drag_x", "ed.thermostat_power", "ed.inserted", "ed.pressure", "dem.wall_force_bottom_z"})
+    EXPECT_EQ(seen.count(name), 1u) << name;
+  // The run writes them, time first, in stats.csv's order.
+  const Scene s = parse_scene(cases(dir)[6].text, "case.toml", cases(dir)[6].overrides);
+  RunOptions opt;
+  opt.dir = dir / "run";
+  opt.name = "case";
+  opt.quiet = true;
+  ASSERT_EQ(run_scene(s, opt), 0);
+  std::ifstream csv(opt.dir / "stats.csv");
+  std::string header;
+  std::getline(csv, header);
+  std::ifstream in(opt.dir / "stats.json");
+  std::stringstream json;
+  json << in.rdbuf();
+  std::size_t at = 0;
+  std::stringstream cols(header);
+  for (std::string name; std::getline(cols, name, ',');) {
+    const std::size_t p = json.str().find("\"name\": \"" + name + "\"", at);
+    EXPECT_NE(p, std::string::npos) << name << " is not documented in stats.json (in order)";
+    if (p != std::string::npos) at = p;
+  }
+  EXPECT_NE(header.find("thermostat_power"), std::string::npos);
 }

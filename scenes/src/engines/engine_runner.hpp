@@ -43,7 +43,7 @@ public:
   // stats.csv: column names (after `time`) and one row over the window since the last
   // row; taking a row starts a new window. Throws like check_finite() when the values it
   // has just computed are no longer finite.
-  virtual std::vector<std::string> stats_columns() const = 0;
+  virtual std::vector<StatsColumn> stats_columns() const = 0;
   virtual std::vector<double> stats_row() = 0;
   // Throws grainflow::Error naming the quantity when the state has turned non-finite (a
   // run would otherwise end "complete" with NaN everywhere). Called at the end of the run;

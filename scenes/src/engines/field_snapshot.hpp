@@ -1,7 +1,11 @@
 // Binned fields (engine/core/binning) → the named fields a Snapshot carries for the
-// field panels. The one mapping of field names used by `render` and `run`: "density",
-// "temperature" (kT), "speed" (<|v|>), "fraction", and the mean velocity.
+// field panels and the field files. The one mapping of field names used by `render` and
+// `run`: "density", "temperature" (kT), "speed" (<|v|>), "fraction", "samples"
+// (particle-samples per bin), "open_fraction" (the part of each bin open to particle
+// centres: 1 unless the runner says otherwise, as the ED runner does around its
+// obstacle), and the mean velocity.
 #pragma once
+#include <optional>
 #include <string>
 
 #include "engine/core/binning.hpp"
@@ -17,6 +21,7 @@ struct FieldUnits {
   std::string speed;
 };
 
-void set_binned_fields(core::BinnedFields fields, render::Snapshot& s, const FieldUnits& units = {});
+void set_binned_fields(core::BinnedFields fields, render::Snapshot& s, const FieldUnits& units = {},
+                       std::optional<render::FieldExposure> exposure = std::nullopt);
 
 }  // namespace grainflow::scenes

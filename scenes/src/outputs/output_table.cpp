@@ -12,12 +12,14 @@ OutputEntry mp4_output();
 OutputEntry particles_output();
 OutputEntry lammps_dump_output();
 OutputEntry stats_output();
+OutputEntry fields_output();
 OutputEntry run_json_output();
 
 std::span<const OutputEntry> outputs() {
   // run.json last: it is finished once every other file is in place, and records that.
-  static const std::array<OutputEntry, 6> table = {png_output(),   mp4_output(),   particles_output(),
-                                                   lammps_dump_output(), stats_output(), run_json_output()};
+  static const std::array<OutputEntry, 7> table = {png_output(),   mp4_output(),    particles_output(),
+                                                   lammps_dump_output(), stats_output(), fields_output(),
+                                                   run_json_output()};
   return table;
 }
 

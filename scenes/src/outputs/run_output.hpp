@@ -29,12 +29,21 @@ struct RunRecord;
 // render::PngSequenceSink names them).
 inline constexpr std::string_view kFrameFiles = "frames/frame_*.png";
 
+// A stats.csv column as the code that computes it names and documents it (stats.json): its
+// unit and what it is, written beside the value, one place per column. ED units: σ (disk
+// diameter), m (disk mass), E (the energy unit of system.kT), τ = σ·sqrt(m/E); DEM: SI.
+struct StatsColumn {
+  std::string name;
+  std::string unit;        // "1" for counts and ratios
+  std::string definition;  // what the value is, over which window, and how it is computed
+};
+
 // What an output is opened with.
 struct OutputContext {
   const Scene& scene;
   std::filesystem::path dir;                // the run folder
   std::string name;                         // the scene file's stem: DIR/<name>.mp4
-  std::vector<std::string> stats_columns;   // after `time`, as the engine names them
+  std::vector<StatsColumn> stats_columns;   // after `time`, as the engine names them
   // Every file an output writes in DIR is claimed first (relative name, or kFrameFiles),
   // so that --force later removes exactly what grainflow wrote (run/run_folder.hpp).
   std::function<void(std::string_view)> claim;

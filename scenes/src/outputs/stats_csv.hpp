@@ -10,9 +10,13 @@
 #include <vector>
 
 #include "engine/io/partial_file.hpp"
+#include "scenes/src/outputs/run_output.hpp"
 #include "scenes/src/scene/schema.hpp"
 
 namespace grainflow::scenes {
+
+// stats.json: every column of stats.csv (time first) with its unit and definition.
+std::string stats_json(const std::vector<StatsColumn>& columns);
 
 namespace stats_keys {
 // Simulated time between rows (0 = one per frame): the run loop schedules rows by it.

@@ -56,10 +56,25 @@ bool valid_claim(std::string_view name) {
 // AtomicFile temporaries `<name>.tmp-<pid>-<n>`.
 void remove_claimed(const fs::path& dir, const std::string& name) {
   std::error_code ec;
-  if (name == kFrameFiles) {
-    static const std::regex frame(R"(^frame_[0-9]{6,}\.png(\.tmp-[0-9]+-[0-9]+)?$)");
-    for (const auto& e : fs::directory_iterator(dir / "frames", ec))
-      if (e.is_regular_file(ec) && std::regex_match(e.path().filename().string(), frame)) fs::remove(e.path(), ec);
+  // A numbered series, "FOLDER/PREFIX*SUFFIX" (kFrameFiles, the field files): every
+  // PREFIX<6 or more digits>SUFFIX in FOLDER, with its AtomicFile temporaries; nothing else.
+  if (const std::size_t star = name.find('*'); star != std::string::npos) {
+    const std::size_t slash = name.rfind('/', star);
+    const std::string folder = slash == std::string::npos ? std::string() : name.substr(0, slash);
+    const std::string prefix = name.substr(slash == std::string::npos ? 0 : slash + 1, star - (slash + 1));
+    const std::string suffix = name.substr(star + 1);
+    auto quote = [](const std::string& t) {
+      std::string q;
+      for (char c : t) {
+        if (std::string_view(R"(\^$.|?*+()[]{}-)").find(c) != std::string_view::npos) q += '\\';
+        q += c;
+      }
+      return q;
+    };
+    const std::regex numbered("^" + quote(prefix) + "[0-9]{6,}" + quote(suffix) + R"((\.tmp-[0-9]+-[0-9]+)?$)");
+    for (const auto& e : fs::directory_iterator(dir / folder, ec))
+      if (e.is_regular_file(ec) && std::regex_match(e.path().filename().string(), numbered)) fs::remove(e.path(), ec);
+    if (!folder.empty()) fs::remove(dir / folder, ec);  // only when nothing else is left in it
     return;
   }
   const fs::path p = dir / name;

@@ -3,6 +3,7 @@
 // kSphereAttributes, stats rows of energies, contacts and wall forces, optionally pair.csv
 // (the force–separation record of particles 1 and 2, seed 000 §5.4), and the table row.
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -277,6 +278,7 @@ public:
         fields_(binning_options(sc, sim_.config())),
         sample_every_(sample_keys::sample_interval(sc.get(sample_keys::exposure))),
         next_sample_(sim_.time() + sample_every_),
+        fields_begin_(sim_.time()),
         scene_(sc),
         pair_every_(std::uint64_t(sc.get(keys::pair_every))) {}
 
@@ -346,9 +348,15 @@ public:
       f.mean_velocity = fields_.mean_velocity();
       f.temperature = fields_.temperature();
       f.mean_speed = fields_.mean_speed();
+      f.counts = fields_.counts();
+      const core::BinPlane plane = fields_.options().plane;
+      const std::array<int, 2> axes = plane == core::BinPlane::xy   ? std::array{0, 1}
+                                      : plane == core::BinPlane::xz ? std::array{0, 2}
+                                                                    : std::array{1, 2};
       // SI: kT = m<C²>/3 with the masses in kg (core::BinAccumulator::temperature).
-      set_binned_fields(std::move(f), s, {"m⁻²", "J", "m/s"});
+      set_binned_fields(std::move(f), s, {"m⁻²", "J", "m/s"}, render::FieldExposure{fields_begin_, sim_.time(), fields_.frames(), axes});
       fields_.reset();
+      fields_begin_ = sim_.time();
     }
   }
 
@@ -381,9 +389,17 @@ public:
     f.extra = {{"omegax", std::move(wx)}, {"omegay", std::move(wy)}, {"omegaz", std::move(wz)}, {"mass", std::move(mass)}};
   }
 
-  std::vector<std::string> stats_columns() const override {
-    return {"step", "N", "kinetic_energy", "rotational_energy", "potential_energy", "contacts", "coordination",
-            "wall_force_bottom_z", "neighbour_builds"};
+  // Every column is the state at the row's time (no window).
+  std::vector<StatsColumn> stats_columns() const override {
+    return {{"step", "1", "time steps taken since the start"},
+            {"N", "1", "particles in the system (the DEM engine neither inserts nor removes any)"},
+            {"kinetic_energy", "J", "Σ m|v|²/2, velocities at the full step (v_n = v_{n−1/2} + Δt F_n/(2m), seed 000 Eq. 2.19)"},
+            {"rotational_energy", "J", "Σ I|ω|²/2"},
+            {"potential_energy", "J", "gravitational potential energy Σ −m g·x (zero at the origin)"},
+            {"contacts", "1", "particle–particle pairs with overlap > 0"},
+            {"coordination", "1", "mean contacts per particle, 2 contacts / N"},
+            {"wall_force_bottom_z", "N", "z component of the force the particles exert on the z-lo wall"},
+            {"neighbour_builds", "1", "Verlet neighbour list rebuilds since the start"}};
   }
   void check_finite() const override { require_finite(sim_.stats()); }
 
@@ -408,12 +424,14 @@ public:
     w.tag("dem.runner");
     io::save(w, fields_);  // the exposure being accumulated
     w.pod(next_sample_);
+    w.pod(fields_begin_);
   }
   void load(io::ArchiveReader& r) override {
     sim_.load_state(r);
     r.tag("dem.runner");
     io::load(r, fields_);
     r.pod(next_sample_);
+    r.pod(fields_begin_);
   }
 
   std::string state_digest() const override {
@@ -455,6 +473,7 @@ private:
   dem::Simulation sim_;
   core::BinAccumulator fields_;
   double sample_every_, next_sample_;
+  double fields_begin_;  // when the exposure being accumulated began
   Scene scene_;
   std::uint64_t pair_every_;
   PairProbe* pair_ = nullptr;  // owned by the run loop with the other outputs, when asked for

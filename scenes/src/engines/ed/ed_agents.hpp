@@ -16,6 +16,7 @@
 
 #include "engine/core/vec.hpp"
 #include "render/snapshot.hpp"
+#include "scenes/src/outputs/run_output.hpp"
 
 namespace grainflow::ed {
 class Simulation;
@@ -39,7 +40,7 @@ public:
   // masked, not "empty".
   virtual bool solid(const Vec2& /*p*/) const { return false; }
   // stats.csv columns, and their values over the window of `duration` since the last row.
-  virtual std::vector<std::string> stats_columns() const { return {}; }
+  virtual std::vector<StatsColumn> stats_columns() const { return {}; }
   virtual void stats_row(double /*duration*/, std::vector<double>& /*row*/) {}
   // "key = value" pairs for the frame's caption (the phase in effect).
   virtual void labels(std::vector<std::pair<std::string, std::string>>& /*out*/) const {}

@@ -210,8 +210,9 @@ public:
     // The exposure that ended most recently; none yet at the first frame.
     auto exposures = sampler_->take_frames();
     if (!exposures.empty()) {
+      const ed::ExposureFields& e = exposures.back();
       // Reduced units (σ = m = 1, seed 003): only the density's unit says something.
-      set_binned_fields(std::move(exposures.back().fields), s, {"σ⁻²", "", ""});
+      set_binned_fields(std::move(exposures.back().fields), s, {"σ⁻²", "", ""}, render::FieldExposure{e.t_begin, e.t_end, e.samples, {0, 1}});
       mask_solid_bins(s);
     }
     if (cfg.stream.x() != 0 || cfg.stream.y() != 0) s.reference_velocity = Eigen::Vector2d(cfg.stream.x(), cfg.stream.y());
@@ -251,15 +252,31 @@ public:
   }
 
   // The engine's window, then each attached agent's columns (the obstacle's drag), then the
-  // open-stream counters.
-  std::vector<std::string> stats_columns() const override {
-    std::vector<std::string> c = {"collisions",     "events",         "N",          "kinetic_energy", "kT",
-                                  "pressure",       "mean_free_time", "momentum_x", "momentum_y"};
+  // open-stream counters. The stats window: from the previous row to this one.
+  std::vector<StatsColumn> stats_columns() const override {
+    std::vector<StatsColumn> c = {
+        {"collisions", "1", "disk–disk collisions since the start of the run (cumulative)"},
+        {"events", "1", "calendar events processed since the start (collisions, cell crossings, walls, agents, stale)"},
+        {"N", "1", "disks in the box now (frozen ones beyond an outlet filter included)"},
+        {"kinetic_energy", "E", "Σ m|v|²/2 + Σ I ω²/2 over the disks now (translation and rotation, lab frame)"},
+        {"kT", "E",
+         "granular temperature averaged over the stats window: time average of Σ m|v − V|²/(2 N_mobile), V the "
+         "mass-averaged velocity (seed 003 Eq. 4.9, i = 2)"},
+        {"pressure", "E/σ²",
+         "collision-virial pressure over the stats window: [N_mobile <kT> + Σ_coll r_ij·Δp_i / (2 t)] / A, A = the "
+         "box area Lx·Ly (obstacle included), t the window length (Alder & Wainwright 1960)"},
+        {"mean_free_time", "τ", "mean time between two collisions of one disk over the window: t N_mobile / (2 C)"},
+        {"momentum_x", "m σ/τ", "Σ m v_x over the disks now"},
+        {"momentum_y", "m σ/τ", "Σ m v_y over the disks now"}};
     for (const auto& a : agents_)
-      for (auto& name : a->stats_columns()) c.push_back(std::move(name));
-    for (const char* name : {"inserted", "removed", "N_frozen"}) c.emplace_back(name);
+      for (auto& col : a->stats_columns()) c.push_back(std::move(col));
+    c.push_back({"inserted", "1", "disks that entered through an open stream inlet since the start (cumulative)"});
+    c.push_back({"removed", "1", "disks that left through an open stream outlet since the start (cumulative)"});
+    c.push_back({"N_frozen", "1", "of N, the disks frozen beyond the outlet filter now (seed 003 §3.3)"});
     // The TC model (seed 003 ch. 5): disks removed as overlapping so far, the cutoff now.
-    for (const char* name : {"removed_overlap", "tau_tc"}) c.emplace_back(name);
+    c.push_back({"removed_overlap", "1",
+                 "disks removed as numerically overlapping by the TC model since the start (cumulative)"});
+    c.push_back({"tau_tc", "τ", "the TC model's time cutoff now (raised by system.tau_tc_step at each removal)"});
     return c;
   }
   void check_finite() const override { require_finite(sim_.kinetic_energy()); }
@@ -395,17 +412,20 @@ private:
         if (a->solid(p)) return true;
       return false;
     };
-    auto apply = [&](auto& field, bool per_area) {
+    // The open fraction itself is a value everywhere (0 inside the solid), never masked.
+    auto apply = [&](auto& field, bool per_area, bool is_open_field = false) {
       const std::vector<double>& open = open_fractions(field.grid, solid);
       for (std::size_t b = 0; b < open.size(); ++b) {
-        if (centre_solid_[b]) {
+        if (is_open_field) {
+          if constexpr (std::is_same_v<std::decay_t<decltype(field)>, core::ScalarField>) field.values[b] = open[b];
+        } else if (centre_solid_[b]) {
           field.mask[b] = 0;
         } else if constexpr (std::is_same_v<std::decay_t<decltype(field)>, core::ScalarField>) {
           if (per_area && open[b] > 0.0 && open[b] < 1.0) field.values[b] /= open[b];
         }
       }
     };
-    for (auto& f : s.fields) apply(f.field, f.name == "density" || f.name == "fraction");
+    for (auto& f : s.fields) apply(f.field, f.name == "density" || f.name == "fraction", f.name == "open_fraction");
     if (s.velocity) apply(*s.velocity, false);
   }
 

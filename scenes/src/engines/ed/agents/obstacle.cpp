@@ -47,7 +47,14 @@ public:
   bool solid(const Vec2& p) const override {
     return (p - obstacle_.config().centre).norm() < obstacle_.config().radius;
   }
-  std::vector<std::string> stats_columns() const override { return {"drag_x", "drag_y"}; }
+  std::vector<StatsColumn> stats_columns() const override {
+    constexpr const char* force = "E/σ";
+    return {{"drag_x", force,
+             "x component of the drag on the obstacle: the momentum the disks gave it per unit time over the stats "
+             "window (Σ impulses / window length); the whole force, not per unit diameter (divide by "
+             "boundary.obstacle.D for that)"},
+            {"drag_y", force, "y component of the drag on the obstacle, as drag_x (the lift)"}};
+  }
   void stats_row(double duration, std::vector<double>& row) override {
     // Drag: momentum the obstacle received per unit time over the window (Fig. 4.19).
     Vec2 drag = Vec2::Zero();

@@ -69,7 +69,12 @@ void declare_keys(Schema& s) {
 class ThermostatRun final : public EdAgentRun {
 public:
   explicit ThermostatRun(const ed::Thermostat& t) : thermostat_(t) {}
-  std::vector<std::string> stats_columns() const override { return {"thermostat_events", "thermostat_power"}; }
+  std::vector<StatsColumn> stats_columns() const override {
+    return {{"thermostat_events", "1", "thermostat events (velocity redraws) in the stats window"},
+            {"thermostat_power", "E/τ",
+             "energy the thermostat put in per unit time over the stats window: Σ over its events of the change of "
+             "Σ m v²/2, divided by the window length (negative when it removed energy)"}};
+  }
   void stats_row(double duration, std::vector<double>& row) override {
     // Events over the window, and the energy they injected per unit time (Σ Δ(m v²/2) / t).
     const double events = double(thermostat_.events() - events_at_reset_);
