@@ -134,10 +134,10 @@ CouetteInput measure_couette(const Scene& sc, const CouetteRun& run) {
     throw Error(fmt::format("couette: bulk fraction {} is invalid; allowed: 0 < f <= 1", run.bulk_fraction));
 
   std::unique_ptr<EngineRunner> runner = find_engine("ed")->make_runner(sc);
-  const std::vector<std::string> columns = runner->stats_columns();
+  const std::vector<StatsColumn> columns = runner->stats_columns();
   auto column = [&](std::string_view name) {
     for (std::size_t c = 0; c < columns.size(); ++c)
-      if (columns[c] == name) return c;
+      if (columns[c].name == name) return c;
     throw Error(fmt::format("couette: the run has no stats column {}", name));
   };
   const std::size_t c_low = column("wall_fx_low"), c_high = column("wall_fx_high"), c_kT = column("kT");

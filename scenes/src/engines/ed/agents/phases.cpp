@@ -110,13 +110,14 @@ public:
         std::move(times), [this](ed::SystemState& s, std::size_t k) { apply(s, k); }, sim.time());
   }
 
-  std::vector<std::string> stats_columns() const override {
-    std::vector<std::string> c = {"phase"};
-    if (changes_e_) c.emplace_back("e");
-    if (changes_r_) c.emplace_back("obstacle_r");
+  std::vector<StatsColumn> stats_columns() const override {
+    const std::string at_end = ", as it stands at the end of the row's window";
+    std::vector<StatsColumn> c = {{"phase", "1", "number of [[phase]] tables applied so far" + at_end}};
+    if (changes_e_) c.push_back({"e", "1", "restitution of disk–disk collisions (system.e)" + at_end});
+    if (changes_r_) c.push_back({"obstacle_r", "1", "restitution of the obstacle (boundary.obstacle.r)" + at_end});
     if (changes_thermostat_) {
-      c.emplace_back("thermostat_on");
-      c.emplace_back("thermostat_T");
+      c.push_back({"thermostat_on", "1", "1 while the thermostat acts, 0 while a phase has switched it off" + at_end});
+      c.push_back({"thermostat_T", "E", "the thermostat's temperature T_th (thermostat.T)" + at_end});
     }
     return c;
   }

@@ -64,9 +64,21 @@ void declare_keys(Schema& s) {
 class WallsRun final : public EdAgentRun {
 public:
   WallsRun(const ed::ElasticWalls& w, double lx) : walls_(w), lx_(lx) { mark(); }
-  std::vector<std::string> stats_columns() const override {
-    return {"wall_fx_low", "wall_fx_high", "wall_pressure_low", "wall_pressure_high", "wall_power_low",
-            "wall_power_high"};
+  std::vector<StatsColumn> stats_columns() const override {
+    constexpr const char* stress = "E/σ²";  // force per unit wall length
+    const std::string per = " per unit time and unit wall length over the stats window (Σ impulses / (window × Lx))";
+    return {{"wall_fx_low", stress,
+             "x force the wall at y = 0 exerts on the gas" + per + ": −σ_xy, the shear stress it transmits"},
+            {"wall_fx_high", stress,
+             "x force the wall at y = Ly exerts on the gas" + per + ": +σ_xy, the shear stress it transmits"},
+            {"wall_pressure_low", stress, "normal force the gas exerts on the wall at y = 0" + per},
+            {"wall_pressure_high", stress, "normal force the gas exerts on the wall at y = Ly" + per},
+            {"wall_power_low", "E/(τ·σ)",
+             "kinetic energy the wall at y = 0 gives the gas per unit time and unit wall length over the stats "
+             "window (negative: heat removed)"},
+            {"wall_power_high", "E/(τ·σ)",
+             "kinetic energy the wall at y = Ly gives the gas per unit time and unit wall length over the stats "
+             "window (negative: heat removed)"}};
   }
   void stats_row(double duration, std::vector<double>& row) override {
     // Per unit time and unit wall length: wall_fx_* is the x force the wall exerts on the
