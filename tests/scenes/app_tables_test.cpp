@@ -115,6 +115,14 @@ std::vector<Case> cases(const fs::path& dir) {
       // The thermostat's keys are read only when [thermostat] is on.
       {kEd + kRender + "[thermostat]\nkind = \"single\"\nT = 1.2\ntau = 1.0\ntau_v = 2.0\nbin = 4.0\n",
        {"system.area_fraction=0.3", "output.png=false", "output.mp4=false"}},
+      // The studies' keys are read only when [study] chooses them.
+      {kEd + kRender + "[study]\nkind = \"haff_cooling\"\nearly = 0.1\ntolerance = 0.5\n",
+       {"system.area_fraction=0.3", "system.e=0.5", "system.tau_tc=1e-4", "output.stats_every=0.05",
+        "output.png=false", "output.mp4=false"}},
+      {kEd + kRender + "[thermostat]\nT = 1.0\n[study]\nkind = \"thermostat_hold\"\ntarget_kT = 1.0\nsettle = 0.5\n"
+                       "hold_tolerance = 0.5\n",
+       {"system.area_fraction=0.3", "system.e=0.9", "system.tau_tc=1e-4", "output.stats_every=0.05",
+        "output.png=false", "output.mp4=false"}},
       {kDem + kRender, {"system.initial.kind=\"lattice\"", "output.particles=true", "render.color_by=\"group\"",
                         "render.layout=[2, 1]", "render.panels=[\"density\", \"temperature\"]",
                         "render.ranges.density=[0.0, 1.0]"}},
