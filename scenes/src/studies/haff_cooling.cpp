@@ -2,8 +2,8 @@
 // disks with the TC model, started from an equilibrated elastic fluid, cools as Haff's
 // law T(t) = T0 / (1 + t/t0)² with t0 = 4 / ((1 − r²) ω0), ω0 the collision frequency
 // per disk at the start (the derivation: tests/ed/tc_model_test.cpp). The study measures
-//   ω0   from the first stats window, corrected to t = 0 (ω ∝ √T: the window's mean rate is
-//        ω0 t0/Δ · ln(1 + Δ/t0) when the window starts at the run's start);
+//   ω0   from the collisions over the early span, corrected to t = 0 (ω ∝ √T: C(s) =
+//        N ω0 t0 ln(1 + s/t0) / 2 collisions by time s after the start);
 //   T0, t0_fit  from a straight-line fit of T^(-1/2) = T0^(-1/2) (1 + t/t0) over the
 //        early rows (t ≤ study.early · t0), T the instantaneous granular temperature;
 // and checks the early cooling rate 1/t0_fit against the prediction 1/t0 (within
@@ -62,12 +62,21 @@ public:
     std::vector<double> T(n);  // instantaneous granular temperature at the row times
     for (std::size_t i = 0; i < n; ++i) T[i] = (ke[i] - 0.5 * (px[i] * px[i] + py[i] * py[i]) / N[i]) / N[i];
 
-    // ω0: the first window's rate per disk, corrected to t = 0 (fixed point with t0).
+    // ω0 from the collisions over the early span s_e ≈ study.early · t0 (thousands of
+    // them, where one window has a few hundred): with ω(s) = ω0/(1 + s/t0), C(s_e) =
+    // N ω0 t0 ln(1 + s_e/t0) / 2 — a fixed point, as t0 = 4/((1 − r²) ω0) sets s_e.
     const double rate1 = 2.0 * C[0] / (N[0] * dt);
-    double omega0 = rate1, t0 = 0;
+    if (!(rate1 > 0))
+      throw Error("haff_cooling study: no collisions in the first stats window (t ≤ " + std::to_string(t[0]) +
+                  "): nothing to measure ω0 from (a longer output.stats_every, or a denser gas)");
+    double omega0 = rate1, t0 = 0, collisions_early = C[0];
     for (int it = 0; it < 100; ++it) {
       t0 = 4.0 / ((1.0 - r_ * r_) * omega0);
-      omega0 = rate1 * dt / (t0 * std::log1p(dt / t0));
+      std::size_t e = 0;
+      while (e + 1 < n && t[e + 1] - ts <= early_ * t0 * (1 + 1e-9)) ++e;
+      const double se = t[e] - ts;
+      omega0 = 2.0 * C[e] / (N[e] * t0 * std::log1p(se / t0));
+      collisions_early = C[e];
     }
     t0 = 4.0 / ((1.0 - r_ * r_) * omega0);
 
@@ -93,16 +102,18 @@ public:
     const double t0_fit = a / b;
     const double t0_fit_err = t0_fit * std::hypot(a_err / a, b_err / b);
     const double rate_ratio = t0 / t0_fit;  // measured early cooling rate / Haff's
-    const double rate_ratio_err = rate_ratio * t0_fit_err / t0_fit;
+    // The fit's error and the counting error of ω0 (√C of C collisions).
+    const double omega0_err = omega0 / std::sqrt(collisions_early);
+    const double rate_ratio_err = rate_ratio * std::hypot(t0_fit_err / t0_fit, omega0_err / omega0);
 
     StudyResult res;
     auto haff = [&](double s) { return T0 / ((1 + s / t0) * (1 + s / t0)); };
     res.values = {
         {"r", r_, kNoError, "", "normal coefficient of restitution (system.e)"},
         {"N0", N[0], kNoError, "disks", "disks at the first stats row"},
-        {"omega0", omega0, kNoError, "1/τ", "collision frequency per disk at the start (first window, corrected to t = 0)"},
+        {"omega0", omega0, omega0_err, "1/τ", "collision frequency per disk at the start (from the collisions over the early span, corrected to t = 0)"},
         {"T0", T0, T0 * 2 * a_err / a, "m σ²/τ²", "initial granular temperature from the early fit"},
-        {"t0_predicted", t0, kNoError, "τ", "Haff's time 4 / ((1 − r²) ω0)"},
+        {"t0_predicted", t0, t0 * omega0_err / omega0, "τ", "Haff's time 4 / ((1 − r²) ω0)"},
         {"t0_fit", t0_fit, t0_fit_err, "τ", "Haff's time fitted over t ≤ study.early · t0 (T^(-1/2) linear in t)"},
         {"early_rate_ratio", rate_ratio, rate_ratio_err, "", "measured early cooling rate / Haff's prediction (= t0 / t0_fit)"},
     };

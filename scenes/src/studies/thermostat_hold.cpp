@@ -8,7 +8,8 @@
 //   T_th_needed = T* + (T_th − kT)(T*/kT)^(3/2): the thermostat temperature that holds the
 //           target T* — the measured balance moved along the cooling law (∝ kT^(3/2));
 //           exact when kT = T*, a small correction near it;
-//   T_th_theory = T* + τ_th (1 − r²) ω(T*) T*/2, from the measured collision frequency;
+//   T_th_theory = T* + τ_th (1 − r²) ω(T*) T*/2, from the measured collision frequency
+//           (dual: twice the excess, its pair events exchange energy at half the rate);
 //   heating_efficiency: the measured power / (N (T_th − kT)/τ_th) (1 for the plain model);
 //   the total momentum's random walk: <|P(t) − P(settle)|²> / (t − settle), which the
 //           dual variant keeps at round-off; the single one resamples momentum, so P
@@ -79,7 +80,9 @@ public:
     const double needed = Ts + (T_th_ - T) * scale;
     const double dneeded_dT = -scale - 1.5 * (T_th_ - T) * scale / T;
     const double needed_err = std::abs(dneeded_dT) * held.error;
-    const double theory = Ts + tau_th_ * (1.0 - r_ * r_) * omega * std::sqrt(Ts / T) * Ts / 2.0;
+    // A dual event resets 2 of a pair's 4 degrees of freedom: half the single exchange rate.
+    const double exchange = kind_ == "dual" ? 0.5 : 1.0;
+    const double theory = Ts + tau_th_ * (1.0 - r_ * r_) * omega * std::sqrt(Ts / T) * Ts / (2.0 * exchange);
     const double efficiency = heat.mean * tau_th_ / (T_th_ - T);
     const double deviation = T / Ts - 1.0;
 
@@ -106,7 +109,7 @@ public:
         {"kT_held", T, held.error, "m σ²/τ²", "mean kT after study.settle (block-average error)"},
         {"kT_deviation", deviation, held.error / Ts, "", "kT_held / target_kT − 1"},
         {"T_th_needed", needed, needed_err, "m σ²/τ²", "thermostat temperature that holds target_kT (balance moved along kT^(3/2))"},
-        {"T_th_theory", theory, kNoError, "m σ²/τ²", "T* + τ_th (1 − r²) ω(T*) T*/2 from the measured ω"},
+        {"T_th_theory", theory, kNoError, "m σ²/τ²", "T* + τ_th (1 − r²) ω(T*) T*/2 (dual: twice the excess) from the measured ω"},
         {"omega", omega, kNoError, "1/τ", "collision frequency per disk while held"},
         {"heating_power_per_disk", heat.mean, heat.error, "m σ²/τ³", "energy the thermostat injects per disk and unit time"},
         {"heating_efficiency", efficiency, kNoError, "", "measured power / ((T_th − kT)/τ_th) per disk"},
