@@ -60,7 +60,8 @@ std::vector<Tick> log_ticks(double lo, double hi, int max_labels) {
   const double llo = std::log10(lo), lhi = std::log10(hi);
   const int k_first = int(std::ceil(llo - eps)), k_last = int(std::floor(lhi + eps));
   const int decades = std::max(0, k_last - k_first + 1);
-  const bool label_minors = decades < 2;
+  // Under ~1.7 decades the decade labels alone are too few (1 and 10 on a 1 … 30 axis).
+  const bool label_minors = decades < 2 || (lhi - llo) < 1.7;
   // With few decades, which minor mantissas carry labels: 2 and 5 over 0.6 decades, all below.
   const bool all_minors = (lhi - llo) < 0.6;
   const int every = std::max(1, (decades + max_labels - 1) / max_labels);

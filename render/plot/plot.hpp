@@ -30,8 +30,8 @@ struct Series {
 struct Axis {
   std::string label;
   bool log = false;
-  // Fixed [lo, hi]; default: the data's range (with error bars) padded by 4 % (linear) or
-  // to whole decades when that adds less than half a decade (log).
+  // Fixed [lo, hi]; default: the data's range (with error bars) padded by 4 % of its span
+  // (of its span in decades on a log axis).
   std::optional<std::pair<double, double>> range;
 };
 
@@ -54,9 +54,10 @@ struct Tick {
 std::vector<Tick> linear_ticks(double lo, double hi, int target);
 // Log axis ticks over [lo, hi] (0 < lo < hi): a major tick at every decade 10^k inside it,
 // labelled "10ᵏ" (every m-th decade when more than `max_labels` would be labelled), minor
-// ticks at 2..9 × 10^k. When fewer than two decades fall inside, the 2 and 5 (spans over
-// 0.3 decades) or every 1..9 (narrower) minor ticks are labelled too ("2×10⁻³" style as
-// plain numbers, "0.002"), so an axis never has fewer than two labels. Empty for a range
+// ticks at 2..9 × 10^k. When fewer than two decades fall inside (or the span is under 1.7
+// decades), the 2 and 5 (spans over 0.6 decades) or every 1..9 (narrower) minor ticks are
+// labelled too, all as plain numbers ("0.002", "0.005", "0.01"); under a fifth of a
+// decade the labels are linear_ticks'. An axis never has fewer than two labels. Empty for a range
 // that is not positive and finite.
 std::vector<Tick> log_ticks(double lo, double hi, int max_labels = 8);
 // "10⁻³", "10⁰", "10¹²": superscript digits of DejaVu Sans.

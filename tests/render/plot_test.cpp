@@ -107,6 +107,8 @@ TEST(PlotTicks, LogTicksAreDecadesWithMinorTicksBetween) {
 TEST(PlotTicks, LogAxesUnderTwoDecadesLabelTheirMinorTicks) {
   // 0.018 … 0.16: one decade inside; the 2 and 5 are labelled, as plain numbers.
   EXPECT_EQ(labels(log_ticks(0.018, 0.16)), (std::vector<std::string>{"0.02", "0.05", "0.1"}));
+  // 1 … 30: two decades inside but a span of 1.5: the 2 and 5 are labelled as well.
+  EXPECT_EQ(labels(log_ticks(0.9, 32.0)), (std::vector<std::string>{"1", "2", "5", "10", "20"}));
   // Under 0.6 decades: every mantissa.
   EXPECT_EQ(labels(log_ticks(0.15, 0.55)), (std::vector<std::string>{"0.2", "0.3", "0.4", "0.5"}));
   // Under a fifth of a decade: plain linear ticks, never fewer than two labels.
