@@ -19,6 +19,7 @@
 #include "scenes/src/outputs/output_table.hpp"
 #include "scenes/src/run/run_loop.hpp"
 #include "scenes/src/run/scene_catalog.hpp"
+#include "scenes/src/studies/study_table.hpp"
 #include "scenes/src/scene/scene.hpp"
 #include "scenes/src/scene/schema.hpp"
 
@@ -116,8 +117,9 @@ std::vector<Case> cases(const fs::path& dir) {
       {kEd + kRender + "[thermostat]\nkind = \"single\"\nT = 1.2\ntau = 1.0\ntau_v = 2.0\nbin = 4.0\n",
        {"system.area_fraction=0.3", "output.png=false", "output.mp4=false"}},
       // The studies' keys are read only when [study] chooses them.
-      {kEd + kRender + "[study]\nkind = \"haff_cooling\"\nearly = 0.1\ntolerance = 0.5\n",
-       {"system.area_fraction=0.3", "system.e=0.5", "system.tau_tc=1e-4", "output.stats_every=0.05",
+      // (Dense enough that the lattice collides in the first stats window.)
+      {kEd + kRender + "[study]\nkind = \"haff_cooling\"\nearly = 1.0\ntolerance = 0.5\n",
+       {"system.area_fraction=0.6", "system.e=0.5", "system.tau_tc=1e-4", "output.stats_every=0.1",
         "output.png=false", "output.mp4=false"}},
       {kEd + kRender + "[thermostat]\nT = 1.0\n[study]\nkind = \"thermostat_hold\"\ntarget_kT = 1.0\nsettle = 0.5\n"
                        "hold_tolerance = 0.5\n",
@@ -144,6 +146,11 @@ TEST(AppTables, SchemaNamesComeFromTheTablesThatHonourThem) {
   }
   EXPECT_EQ(key("dem", "system.contact.normal").choices, grainflow::dem::normal_model_names());
   EXPECT_EQ(key("dem", "system.contact.tangential").choices, grainflow::dem::tangential_model_names());
+  // [study] kind offers the studies of the engine, from the study table.
+  std::vector<std::string> ed_studies;
+  for (const auto& st : grainflow::scenes::studies())
+    if (st.engine == "ed") ed_studies.emplace_back(st.name);
+  EXPECT_EQ(key("ed", "study.kind").choices, ed_studies);
   // A 2D engine offers no vz; the 3D one does.
   const auto ed = find_engine("ed")->colour_attributes(), dem = find_engine("dem")->colour_attributes();
   EXPECT_EQ(std::count(ed.begin(), ed.end(), "vz"), 0);

@@ -26,8 +26,10 @@
 namespace grainflow::scenes {
 namespace {
 
+// Optional keys (so that another study's scene setting them is refused); their defaults:
 inline constexpr Key<double> early{"study.early"};
 inline constexpr Key<double> tolerance{"study.tolerance"};
+constexpr double kEarly = 0.1, kTolerance = 0.05;
 
 std::string pct(double x) {
   char b[32];
@@ -41,8 +43,8 @@ public:
       : rows_("haff_cooling", c.stats_columns,
               {"kT", "kinetic_energy", "momentum_x", "momentum_y", "N", "collisions", "removed_overlap", "tau_tc"}),
         r_(c.scene.get(ed_keys::e)),
-        early_(c.scene.find(early).value_or(0.1)),
-        tolerance_(c.scene.find(tolerance).value_or(0.05)) {}
+        early_(c.scene.find(early).value_or(kEarly)),
+        tolerance_(c.scene.find(tolerance).value_or(kTolerance)) {}
   void stats(double time, std::span<const double> row) override { rows_.add(time, row); }
   void save(io::ArchiveWriter& w) const override { rows_.save(w); }
   void load(io::ArchiveReader& r) override { rows_.load(r); }
@@ -190,11 +192,11 @@ private:
 
 void declare(Schema& s) {
   s.table("study")
-      .add_float(early, 0.1, "haff_cooling: the early cooling rate is fitted over t ≤ early · t0 (Haff's time)")
+      .add_float(early, kEarly, "haff_cooling: the early cooling rate is fitted over t ≤ early · t0 (Haff's time)")
       .above(0.0)
       .optional();
   s.table("study")
-      .add_float(tolerance, 0.05, "haff_cooling: allowed relative deviation of the early cooling rate from Haff's law")
+      .add_float(tolerance, kTolerance, "haff_cooling: allowed relative deviation of the early cooling rate from Haff's law")
       .above(0.0)
       .optional();
   s.add_check([](const Scene& sc, SceneCheck& c) {

@@ -34,6 +34,8 @@ namespace {
 inline constexpr Key<double> target_kT{"study.target_kT"};
 inline constexpr Key<double> settle{"study.settle"};
 inline constexpr Key<double> hold_tolerance{"study.hold_tolerance"};
+// Their defaults (the keys are optional, so that another study's scene setting them is refused).
+constexpr double kTarget = 0.02, kSettle = 50.0, kHoldTolerance = 0.05;
 
 class ThermostatHold final : public Study {
 public:
@@ -45,9 +47,9 @@ public:
         T_th_(c.scene.find(ed_keys::thermostat_T).value_or(c.scene.get(ed_keys::kT))),
         tau_th_(c.scene.get(ed_keys::thermostat_tau)),
         kind_(c.scene.get(ed_keys::thermostat_kind)),
-        target_(c.scene.find(target_kT).value_or(0.02)),
-        settle_(c.scene.find(settle).value_or(50.0)),
-        tolerance_(c.scene.find(hold_tolerance).value_or(0.05)) {}
+        target_(c.scene.find(target_kT).value_or(kTarget)),
+        settle_(c.scene.find(settle).value_or(kSettle)),
+        tolerance_(c.scene.find(hold_tolerance).value_or(kHoldTolerance)) {}
   void stats(double time, std::span<const double> row) override { rows_.add(time, row); }
   void save(io::ArchiveWriter& w) const override { rows_.save(w); }
   void load(io::ArchiveReader& r) override { rows_.load(r); }
@@ -167,15 +169,15 @@ private:
 
 void declare(Schema& s) {
   s.table("study")
-      .add_float(target_kT, 0.02, "thermostat_hold: the granular temperature the thermostat should hold", "m σ²/τ²")
+      .add_float(target_kT, kTarget, "thermostat_hold: the granular temperature the thermostat should hold", "m σ²/τ²")
       .above(0.0)
       .optional();
   s.table("study")
-      .add_float(settle, 50.0, "thermostat_hold: stats rows up to this time are the approach, not the steady state", "τ")
+      .add_float(settle, kSettle, "thermostat_hold: stats rows up to this time are the approach, not the steady state", "τ")
       .at_least(0.0)
       .optional();
   s.table("study")
-      .add_float(hold_tolerance, 0.05, "thermostat_hold: allowed relative deviation of kT from target_kT")
+      .add_float(hold_tolerance, kHoldTolerance, "thermostat_hold: allowed relative deviation of kT from target_kT")
       .above(0.0)
       .optional();
   s.add_check([](const Scene& sc, SceneCheck& c) {
