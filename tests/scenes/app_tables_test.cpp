@@ -21,6 +21,7 @@
 #include "scenes/src/outputs/output_table.hpp"
 #include "scenes/src/run/run_loop.hpp"
 #include "scenes/src/run/scene_catalog.hpp"
+#include "scenes/src/studies/study_table.hpp"
 #include "scenes/src/scene/scene.hpp"
 #include "scenes/src/scene/schema.hpp"
 
@@ -128,6 +129,15 @@ std::vector<Case> cases(const fs::path& dir) {
         "output.mp4=false"}},
       {kEd + kRender + "[boundary.walls]\nkind = \"noslip_flip\"\nr = 0.9\n",
        {"system.area_fraction=0.3", "boundary.periodic=[true, false]", "output.png=false", "output.mp4=false"}},
+      // The studies' keys are read only when [study] chooses them.
+      // (Dense enough that the lattice collides in the first stats window.)
+      {kEd + kRender + "[study]\nkind = \"haff_cooling\"\nearly = 1.0\ntolerance = 0.5\n",
+       {"system.area_fraction=0.6", "system.e=0.5", "system.tau_tc=1e-4", "output.stats_every=0.1",
+        "output.png=false", "output.mp4=false"}},
+      {kEd + kRender + "[thermostat]\nT = 1.0\n[study]\nkind = \"thermostat_hold\"\ntarget_kT = 1.0\nsettle = 0.5\n"
+                       "hold_tolerance = 0.5\n",
+       {"system.area_fraction=0.3", "system.e=0.9", "system.tau_tc=1e-4", "output.stats_every=0.05",
+        "output.png=false", "output.mp4=false"}},
       {kDem + kRender, {"system.initial.kind=\"lattice\"", "output.particles=true", "output.fields=true", "render.color_by=\"group\"",
                         "render.layout=[2, 1]", "render.panels=[\"density\", \"temperature\"]",
                         "render.ranges.density=[0.0, 1.0]"}},
@@ -152,6 +162,11 @@ TEST(AppTables, SchemaNamesComeFromTheTablesThatHonourThem) {
   }
   EXPECT_EQ(key("dem", "system.contact.normal").choices, grainflow::dem::normal_model_names());
   EXPECT_EQ(key("dem", "system.contact.tangential").choices, grainflow::dem::tangential_model_names());
+  // [study] kind offers the studies of the engine, from the study table.
+  std::vector<std::string> ed_studies;
+  for (const auto& st : grainflow::scenes::studies())
+    if (st.engine == "ed") ed_studies.emplace_back(st.name);
+  EXPECT_EQ(key("ed", "study.kind").choices, ed_studies);
   // A 2D engine offers no vz; the 3D one does.
   const auto ed = find_engine("ed")->colour_attributes(), dem = find_engine("dem")->colour_attributes();
   EXPECT_EQ(std::count(ed.begin(), ed.end(), "vz"), 0);

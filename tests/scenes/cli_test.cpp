@@ -1144,3 +1144,117 @@ TEST(CliRun, VideoLastsAboutVideoSecondsUnlessTheSceneGivesTheFrameRate) {
                 .status,
             0);
 }
+
+// `grainflow plot`: a stats.csv drawn with two --y, log y; the errors a user meets.
+TEST(CliPlot, DrawsStatsColumnsAndNamesWhatIsWrong) {
+  const fs::path dir = fresh_dir("plot_run"), png = fresh_dir("plot_png");
+  ASSERT_EQ(run("run " + scenes + "/disks_box.toml --set run.until=4 --set output.png=false --set output.mp4=false "
+                "--set sample.exposure=0.5 -o " + dir.string()).status, 0);
+  fs::create_directories(png);
+  const std::string stats = (dir / "stats.csv").string();
+  const std::string out = (png / "kT.png").string();
+  Result r = run("plot " + stats + " --x time --y kT --y pressure --log-y --title 'box' --size 320 240 -o " + out);
+  ASSERT_EQ(r.status, 0) << r.output;
+  const auto img = grainflow::render::read_png(out);
+  EXPECT_EQ(img.width, 320);
+  EXPECT_EQ(img.height, 240);
+  // Not overwritten without --force; replaced with it.
+  r = run("plot " + stats + " --y kT -o " + out);
+  EXPECT_EQ(r.status, 2);
+  EXPECT_TRUE(contains(r.output, "--force")) << r.output;
+  EXPECT_EQ(run("plot " + stats + " --y kT --force -o " + out).status, 0);
+  // An unknown column: the closest one and the list.
+  r = run("plot " + stats + " --y kt -o " + (png / "x.png").string());
+  EXPECT_EQ(r.status, 2);
+  EXPECT_TRUE(contains(r.output, "did you mean 'kT'?")) << r.output;
+  EXPECT_TRUE(contains(r.output, "columns: time, collisions")) << r.output;
+  // A log axis and values ≤ 0 (the total momentum is zero to round-off).
+  r = run("plot " + stats + " --y momentum_x --log-y -o " + (png / "x.png").string());
+  EXPECT_EQ(r.status, 2);
+  EXPECT_TRUE(contains(r.output, "logarithmic")) << r.output;
+  // An error column for each --y, and none negative.
+  r = run("plot " + stats + " --y kT --y pressure --y-err kT -o " + (png / "x.png").string());
+  EXPECT_EQ(r.status, 2);
+  EXPECT_TRUE(contains(r.output, "one per --y")) << r.output;
+  r = run("plot " + stats + " --y kT --y-err momentum_x -o " + (png / "x.png").string());
+  EXPECT_EQ(r.status, 2);
+  EXPECT_TRUE(contains(r.output, "error bars ≥ 0")) << r.output;
+  // Empty files and a header without rows.
+  std::ofstream(png / "empty.csv");
+  std::ofstream(png / "header.csv") << "time,kT\n";
+  std::ofstream(png / "bad.csv") << "time,kT\n1,0.5\n2,abc\n";
+  r = run("plot " + (png / "empty.csv").string() + " --y kT -o " + (png / "x.png").string());
+  EXPECT_EQ(r.status, 2);
+  EXPECT_TRUE(contains(r.output, "is empty")) << r.output;
+  r = run("plot " + (png / "header.csv").string() + " --y kT -o " + (png / "x.png").string());
+  EXPECT_TRUE(contains(r.output, "no rows")) << r.output;
+  r = run("plot " + (png / "bad.csv").string() + " --y kT -o " + (png / "x.png").string());
+  EXPECT_TRUE(contains(r.output, "bad.csv:3")) << r.output;
+  EXPECT_FALSE(fs::exists(png / "x.png"));
+}
+
+// --rows joins a sweep's study.csv files into one table, --group splits it by a column.
+TEST(CliPlot, RowsAndGroupDrawASweep) {
+  const fs::path dir = fresh_dir("plot_rows");
+  int k = 0;
+  for (double r : {0.97, 0.87})
+    for (double tau : {1.0, 3.48, 10.0}) {
+      fs::create_directories(dir / std::to_string(k));
+      std::ofstream(dir / std::to_string(k++) / "study.csv")
+          << "r,r_err,tau_th,tau_th_err,T_th_needed,T_th_needed_err\n"
+          << r << ",nan," << tau << ",nan," << 0.02 + (1 - r * r) * tau * 0.02 << ",0.0002\n";
+    }
+  std::string files;
+  for (int i = 0; i < k; ++i) files += (dir / std::to_string(i) / "study.csv").string() + " ";
+  const Result r = run("plot --rows " + files + "--x tau_th --y T_th_needed --y-err T_th_needed_err --group r "
+                       "--log-x --points -o " + (dir / "sweep.png").string());
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_TRUE(contains(r.output, "2 series")) << r.output;
+  std::ofstream(dir / "other.csv") << "a,b\n1,2\n";
+  const Result bad = run("plot --rows " + files + (dir / "other.csv").string() + " --x tau_th --y T_th_needed -o " +
+                         (dir / "x.png").string());
+  EXPECT_EQ(bad.status, 2);
+  EXPECT_TRUE(contains(bad.output, "other columns")) << bad.output;
+}
+
+// The homogeneous cooling study, scaled down (N = 1024): study.json, .csv and .png in the
+// run folder; an interrupted run resumed gives the same study.csv.
+TEST(CliStudy, HaffCoolingWritesItsResultAndResumesToTheSameNumbers) {
+  const fs::path eq = fresh_dir("study_eq"), direct = fresh_dir("study_direct"), stopped = fresh_dir("study_stopped");
+  const std::string small = " --set system.box=[35.17,35.17] ";
+  ASSERT_EQ(run("run " + scenes + "/studies/haff_equilibrium.toml" + small + "--set system.N=1024 --set run.until=5 --set sample.exposure=5 -o " +
+                eq.string()).status, 0);
+  const std::string common = "run " + scenes + "/studies/haff_r087.toml" + small + "--set run.until=30 "
+                             "--set study.tolerance=0.1 --set system.initial.file=\"" +
+                             (eq / "particles.xyz").string() + "\" ";
+  Result r = run(common + "-o " + direct.string());
+  ASSERT_EQ(r.status, 0) << r.output;
+  const std::string json = read_file(direct / "study.json");
+  EXPECT_TRUE(contains(json, "\"study\": \"haff_cooling\"")) << json;
+  EXPECT_TRUE(contains(json, "\"early_rate_ratio\"")) << json;
+  EXPECT_TRUE(contains(json, "\"passed\": true")) << json;
+  EXPECT_TRUE(fs::exists(direct / "study.png"));
+  EXPECT_GT(grainflow::render::read_png(direct / "study.png").width, 0);
+  r = run(common + "--set run.max_steps=8000 -o " + stopped.string());
+  EXPECT_EQ(r.status, 130) << r.output;
+  r = run("run --resume " + stopped.string() + " --set run.max_steps=0");
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_EQ(read_file(stopped / "study.csv"), read_file(direct / "study.csv"));
+  // --force removes what the study wrote, as it claimed.
+  r = run(common + "--set run.until=0.1 --force -o " + direct.string());
+  EXPECT_NE(r.status, 0);  // two stats rows cannot be fitted: says so
+  EXPECT_TRUE(contains(r.output, "haff_cooling study")) << r.output;
+}
+
+TEST(CliStudy, StudyKeysAreCheckedBeforeTheFolderExists) {
+  const fs::path dir = fresh_dir("study_keys");
+  Result r = run("run " + scenes + "/studies/haff_r087.toml --set system.e=1.0 -o " + dir.string());
+  EXPECT_EQ(r.status, 2);
+  EXPECT_TRUE(contains(r.output, "does not cool")) << r.output;
+  r = run("run " + scenes + "/studies/thermostat_r097.toml --set study.early=0.2 -o " + dir.string());
+  EXPECT_EQ(r.status, 2);
+  EXPECT_TRUE(contains(r.output, "haff_cooling study")) << r.output;
+  r = run("run " + scenes + "/dem_couette.toml --set study.kind=\"haff_cooling\" -o " + dir.string());
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_FALSE(fs::exists(dir));
+}

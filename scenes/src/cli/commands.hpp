@@ -11,5 +11,6 @@ void setup_run_command(CLI::App& app, int& status);
 void setup_info_command(CLI::App& app, int& status);
 void setup_render_command(CLI::App& app, int& status);
 void setup_diff_command(CLI::App& app, int& status);
+void setup_plot_command(CLI::App& app, int& status);
 
 }  // namespace grainflow::scenes

@@ -36,6 +36,7 @@ int main(int argc, char** argv) {
   setup_info_command(app, status);
   setup_render_command(app, status);
   setup_diff_command(app, status);
+  setup_plot_command(app, status);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

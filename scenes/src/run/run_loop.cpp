@@ -35,6 +35,7 @@
 #include "scenes/src/scene/run_keys.hpp"
 #include "scenes/src/scene/scene.hpp"
 #include "scenes/src/scene/toml_text.hpp"
+#include "scenes/src/studies/study_table.hpp"
 
 namespace grainflow::scenes {
 namespace {
@@ -106,6 +107,8 @@ public:
   }
   const std::string& colour_by() const { return colour_by_; }
   std::string backend() const { return ctx_->backend() + " (" + ctx_->gl_renderer() + ")"; }
+  // The run's GL context, for outputs that draw pictures of their own (study plots).
+  render::GlContext& context() { return *ctx_; }
 
   // Adds the caption; the first frame with a colour attribute fixes the colour range for
   // the whole video (render.range, or its own), so frames compare.
@@ -175,7 +178,7 @@ private:
 // records them done.
 class RunOutputs {
 public:
-  RunOutputs(const OutputContext& ctx, EngineRunner& runner) {
+  RunOutputs(const OutputContext& ctx, EngineRunner& runner, render::GlContext& gl) {
     std::vector<std::unique_ptr<render::FrameSink>> sinks;
     for (const auto& o : outputs()) {
       if (o.open_image) {
@@ -185,6 +188,8 @@ public:
       }
     }
     for (auto& out : runner.open_outputs(ctx)) data_.insert(data_.end() - 1, std::move(out));
+    // The study ([study]) reads the rows as stats.csv has them and finishes before run.json.
+    if (auto study = open_study_output(ctx, gl)) data_.insert(data_.end() - 1, std::move(study));
     draws_ = !sinks.empty();
     images_ = render::parallel_sinks(std::move(sinks));
   }
@@ -392,7 +397,7 @@ int run_scene(const Scene& scene, const RunOptions& opt) {
       st.t0 = runner->time();
     }
     ctx_name = ctx.name;
-    outputs_opened.emplace(ctx, *runner);
+    outputs_opened.emplace(ctx, *runner, drawing.context());
     record.backend = drawing.backend();
     record.status = RunStatus::Running;
     record.resumes = st.resumes;

@@ -12,6 +12,7 @@
 #include "scenes/src/run/render_keys.hpp"
 #include "scenes/src/run/run_loop.hpp"
 #include "scenes/src/scene/run_keys.hpp"
+#include "scenes/src/studies/study_table.hpp"
 
 namespace grainflow::scenes {
 namespace {
@@ -40,6 +41,7 @@ public:
       auto s = std::make_unique<Schema>();
       declare_common(*s, e.colour_attributes());
       e.declare_keys(*s);
+      declare_study_keys(*s, e.name);  // [study] where some study reads this engine's stats
       for (const auto& t : s->tables())
         if (!common_.find_table(t.path()) && t.path().find('.') == std::string::npos &&
             !seen_section(t.path()))
