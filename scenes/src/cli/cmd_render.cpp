@@ -315,7 +315,10 @@ int run_render(const RenderArgs& a) {
       // Frames are named by their index in the file, so --first/--every keep its numbering.
       output->consume(layout ? renderer.render(snapshot, style, *layout) : renderer.render(snapshot, style), index,
                       snapshot.time);
-      if (layout && a.range_mode == "run") render::keep_drawn_ranges(*layout, renderer.last_panel_ranges());
+      // An empty frame (a pour's first) has nothing to scale a map by: the first frame
+      // with particles fixes the ranges.
+      if (layout && a.range_mode == "run" && frame.size() > 0)
+        render::keep_drawn_ranges(*layout, renderer.last_panel_ranges());
       ++written;
     }
     const auto now = clock::now();
