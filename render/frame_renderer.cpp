@@ -102,7 +102,7 @@ FrameRenderer::FrameRenderer(GlContext& context, int width, int height, int msaa
 FrameRenderer::~FrameRenderer() = default;
 
 ViewTransform FrameRenderer::scene_view(const Snapshot& s, const FrameStyle& style, int w, int h) const {
-  return s.dim == 2 ? fit_2d(s.lo.head<2>(), s.hi.head<2>(), w, h) : fit_3d(s.lo, s.hi, style.camera, w, h);
+  return s.dim == 2 ? fit_2d(s.lo.head<2>(), s.hi.head<2>(), style.camera, w, h) : fit_3d(s.lo, s.hi, style.camera, w, h);
 }
 
 const Image& FrameRenderer::render(const Snapshot& s, const FrameStyle& style) {

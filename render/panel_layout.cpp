@@ -62,10 +62,47 @@ std::span<const std::string_view> panel_names() { return kNames; }
 
 PanelSpec panel_from_name(std::string_view name) {
   for (const auto& row : kPanels)
-    if (row.name == name) return row.make();
+    if (row.name == name) {
+      PanelSpec p = row.make();
+      p.name = std::string(name);
+      return p;
+    }
   std::string allowed;
   for (auto n : kNames) allowed += std::string(allowed.empty() ? "" : ", ") + std::string(n);
   throw Error("panel '" + std::string(name) + "' is not known; allowed: " + allowed);
+}
+
+std::vector<std::string_view> ranged_panel_names() {
+  std::vector<std::string_view> out;
+  for (const auto& row : kPanels) {
+    const PanelKind kind = row.make().kind;
+    if (kind == PanelKind::field || kind == PanelKind::streamlines) out.push_back(row.name);
+  }
+  return out;
+}
+
+void set_fixed_range(FrameLayout& layout, std::string_view name, double lo, double hi) {
+  const auto ranged = ranged_panel_names();
+  if (std::find(ranged.begin(), ranged.end(), name) == ranged.end()) {
+    std::string allowed;
+    for (auto n : ranged) allowed += std::string(allowed.empty() ? "" : ", ") + std::string(n);
+    throw Error("a colour range for panel '" + std::string(name) + "': only map panels take one; allowed: " + allowed);
+  }
+  if (!(std::isfinite(lo) && std::isfinite(hi) && lo < hi))
+    throw Error("the colour range of panel '" + std::string(name) + "' must be two finite numbers lo < hi");
+  bool found = false;
+  for (auto& p : layout.panels)
+    if (p.name == name) {
+      p.range = FieldRange::fixed(lo, hi);
+      found = true;
+    }
+  if (!found) throw Error("a colour range for panel '" + std::string(name) + "', but no such panel is drawn");
+}
+
+void keep_drawn_ranges(FrameLayout& layout, const std::vector<std::optional<std::pair<double, double>>>& drawn) {
+  for (std::size_t i = 0; i < drawn.size() && i < layout.panels.size(); ++i)
+    if (drawn[i] && layout.panels[i].range.mode != FieldRange::Mode::fixed)
+      layout.panels[i].range = FieldRange::fixed(drawn[i]->first, drawn[i]->second);
 }
 
 FrameLayout make_layout(int cols, int rows, std::span<const std::string> names) {

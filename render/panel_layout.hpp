@@ -7,6 +7,7 @@
 #include <span>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "render/layers/colormap.hpp"
@@ -25,6 +26,7 @@ enum class PanelKind {
 
 struct PanelSpec {
   PanelKind kind = PanelKind::particles;
+  std::string name;  // its row in the panel table ("density", …); set by panel_from_name
   // PanelKind::field: the Snapshot field's name. "speed" falls back to |velocity| when the
   // snapshot has no field of that name.
   std::string field;
@@ -42,11 +44,23 @@ std::span<const std::string_view> panel_names();
 // A panel with its defaults; throws grainflow::Error naming the value and the allowed names.
 PanelSpec panel_from_name(std::string_view name);
 
+// The panels whose map takes a colour range (field and streamline panels): the names a
+// scene's [render.ranges] and `render --map-range` accept.
+std::vector<std::string_view> ranged_panel_names();
+
 struct FrameLayout {
   int cols = 1, rows = 1;
   std::vector<PanelSpec> panels;  // filled row by row; at most cols × rows
   bool caption = true;            // a caption line when the Snapshot has one
 };
+
+// Fixes the colour range of every panel called `name` to [lo, hi]. Throws grainflow::Error
+// when the layout has no such panel, it takes no range, or the range is empty/non-finite.
+void set_fixed_range(FrameLayout& layout, std::string_view name, double lo, double hi);
+// The "run" range mode (render.range_mode): each panel whose range is not fixed keeps the
+// range it was first drawn with (`drawn`: FrameRenderer::last_panel_ranges()), so the
+// colour scale stays put for the whole video and two runs compare.
+void keep_drawn_ranges(FrameLayout& layout, const std::vector<std::optional<std::pair<double, double>>>& drawn);
 
 // Throws grainflow::Error for cols/rows outside 1..8, unknown names, or more panels than
 // cols × rows.

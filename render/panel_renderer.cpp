@@ -24,6 +24,28 @@ void mark_clipped(const Values& values, const std::vector<std::uint8_t>& mask, s
   }
 }
 
+// The legend entries of categorical colours: each category present, in order, with its
+// colour and name; more than kMaxLegend categories (colouring by id) get one line saying so.
+constexpr std::size_t kMaxLegend = 16;
+std::vector<std::pair<Rgb, std::string>> legend_entries(const Snapshot& s, const Colormap& cmap) {
+  std::vector<long long> cats;
+  for (float v : s.attribute)
+    if (std::isfinite(v)) cats.push_back(std::llround(v));
+  std::sort(cats.begin(), cats.end());
+  cats.erase(std::unique(cats.begin(), cats.end()), cats.end());
+  std::vector<std::pair<Rgb, std::string>> out;
+  if (cats.size() > kMaxLegend) {
+    out.emplace_back(Colormap::kNanColour, std::to_string(cats.size()) + " " + s.attribute_name + "s");
+    return out;
+  }
+  for (long long k : cats) {
+    const std::string name = k >= 1 && std::size_t(k) <= s.category_names.size() ? s.category_names[std::size_t(k - 1)]
+                                                                                   : s.attribute_name + " " + std::to_string(k);
+    out.emplace_back(cmap.category(k), name);
+  }
+  return out;
+}
+
 }  // namespace
 
 
@@ -72,6 +94,25 @@ double scale_length(double max_len) {
   return mag;
 }
 
+// Frame-pixel bounding box of the 3D box [lo, hi] seen through `view` in `plot`: where the
+// colour bar of a 3D particle panel goes beside it.
+PixelRect projected_box(const ViewTransform& view, const PixelRect& plot, const Eigen::Vector3d& lo,
+                        const Eigen::Vector3d& hi) {
+  double x0 = 1e300, x1 = -1e300, y0 = 1e300, y1 = -1e300;
+  const Mat4 m = view.view_proj();
+  for (int corner = 0; corner < 8; ++corner) {
+    const Eigen::Vector4f c = m * Eigen::Vector4f(float((corner & 1) ? hi.x() : lo.x()), float((corner & 2) ? hi.y() : lo.y()),
+                                                  float((corner & 4) ? hi.z() : lo.z()), 1.f);
+    if (!(c.w() > 0)) return plot;  // a corner behind the eye: the plot is all there is
+    const double px = plot.x + (c.x() / c.w() + 1) * 0.5 * plot.w, py = plot.y + (1 - c.y() / c.w()) * 0.5 * plot.h;
+    x0 = std::min(x0, px), x1 = std::max(x1, px), y0 = std::min(y0, py), y1 = std::max(y1, py);
+  }
+  const int ix0 = std::max(plot.x, int(std::lround(x0))), iy0 = std::max(plot.y, int(std::lround(y0)));
+  const int ix1 = std::min(plot.right(), int(std::lround(x1))), iy1 = std::min(plot.bottom(), int(std::lround(y1)));
+  if (ix1 <= ix0 || iy1 <= iy0) return plot;
+  return {ix0, iy0, ix1 - ix0, iy1 - iy0};
+}
+
 std::string default_title(const PanelSpec& p, const Snapshot& s) {
   if (!p.title.empty()) return p.title;
   switch (p.kind) {
@@ -116,6 +157,7 @@ void PanelRenderer::draw(FrameRenderer& frame, const Snapshot& s, const FrameSty
   for (const auto& c : s.obstacles) solids_.push_back({c.centre, c.radius});
   overlay_.clear();
   bars_.clear();
+  legends_.clear();
   ranges_.assign(layout.panels.size(), std::nullopt);
   streamline_count_ = 0;
 
@@ -153,6 +195,7 @@ void PanelRenderer::draw(FrameRenderer& frame, const Snapshot& s, const FrameSty
                                       : frame.scene_view(s, style, plot.w, plot.h);
     const Colormap cmap = spec.colormap ? *spec.colormap : style.colormap;
     std::optional<PendingBar> bar;
+    std::optional<PendingLegend> legend;
     std::string missing;
 
     switch (spec.kind) {
@@ -163,6 +206,8 @@ void PanelRenderer::draw(FrameRenderer& frame, const Snapshot& s, const FrameSty
           const auto range = style.range ? *style.range : finite_range(s.attribute);
           bar = PendingBar{{}, range, style.colormap, s.attribute_name, g.tick_px};
           mark_clipped(s.attribute, {}, range, *bar);
+        } else if (!s.attribute.empty()) {
+          legend = PendingLegend{0, 0, legend_entries(s, style.colormap), g.tick_px};
         }
         break;
       }
@@ -231,14 +276,23 @@ void PanelRenderer::draw(FrameRenderer& frame, const Snapshot& s, const FrameSty
     }
     if (bar && spec.colour_bar) {
       // Beside the drawn domain, as tall as it, leaving room for the label above.
-      const PixelRect dom = planar ? projected_rect(view, plot, plane_lo, plane_hi)
-                                   : projected_rect(view, plot, s.lo.head<2>(), s.hi.head<2>());
+      const PixelRect dom = planar        ? projected_rect(view, plot, plane_lo, plane_hi)
+                            : s.dim == 2 ? projected_rect(view, plot, s.lo.head<2>(), s.hi.head<2>())
+                                         : projected_box(view, plot, s.lo, s.hi);
       const int gap = std::max(4, int(0.7 * g.tick_px));
       const int top = std::max(dom.y, plot.y + int(2.4 * g.tick_px));  // room for a clip triangle and the label
       const int bottom = std::min(dom.bottom(), g.panel.bottom() - g.tick_px / 2);
-      const int x = planar || s.dim == 2 ? std::min(dom.right(), plot.right()) + gap : plot.right() + gap;
+      const int x = std::min(dom.right(), plot.right()) + gap;
       bar->rect = {x, top, std::max(6, int(std::lround(0.9 * g.tick_px))), bottom - top};
       bars_.push_back(*bar);
+    }
+    if (legend && spec.colour_bar) {
+      const PixelRect dom = s.dim == 2 ? projected_rect(view, plot, s.lo.head<2>(), s.hi.head<2>())
+                                       : projected_box(view, plot, s.lo, s.hi);
+      const int gap = std::max(4, int(0.7 * g.tick_px));
+      legend->x = std::min(dom.right(), plot.right()) + gap;
+      legend->y = std::max(dom.y, plot.y) + g.tick_px;
+      legends_.push_back(std::move(*legend));
     }
   }
   gl_.Disable(GL_SCISSOR_TEST);
@@ -252,6 +306,16 @@ void PanelRenderer::draw(FrameRenderer& frame, const Snapshot& s, const FrameSty
     bar_style.tick_px = std::max(3, b.font_px / 3);
     draw_colour_bar(fields_, pixel, b.rect, b.range, b.colormap, b.label, bar_style, overlay_, text_,
                     {b.below, b.above});
+  }
+  for (const auto& l : legends_) {
+    const float side = float(l.font_px), step = 1.6f * float(l.font_px);
+    for (std::size_t k = 0; k < l.entries.size(); ++k) {
+      const float y = float(l.y) + step * float(k);
+      const auto& c = l.entries[k].first;
+      // A square swatch: one segment as wide as it is long.
+      overlay_.push_back({{float(l.x), y, 0.f}, {float(l.x) + side, y, 0.f}, {c.r, c.g, c.b, 1.f}, side});
+      text_.add(l.entries[k].second, float(l.x) + 1.5f * side, y, l.font_px, ink, TextAlign::left, TextAnchor::middle);
+    }
   }
   if (!caption.empty())
     text_.add(caption, float(geo.caption_px), float(geo.caption.y + 0.5 * geo.caption.h), geo.caption_px, ink,

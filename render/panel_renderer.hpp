@@ -45,6 +45,13 @@ private:
     bool below = false, above = false;  // values were clipped at lo / hi
   };
 
+  // A legend of categorical colours (particles coloured by type): one swatch per category.
+  struct PendingLegend {
+    int x = 0, y = 0;
+    std::vector<std::pair<Rgb, std::string>> entries;
+    int font_px;
+  };
+
   // |v − reference| on the velocity grid; invalid where v is masked or not finite.
   const core::ScalarField& speed_field(const core::VectorField& v, const Vec2& reference);
   // A scale bar of a round length under the drawn domain `dom` (frame pixels), whose world
@@ -60,6 +67,7 @@ private:
   std::vector<SolidCircle> solids_;
   std::vector<Segment> overlay_;
   std::vector<PendingBar> bars_;
+  std::vector<PendingLegend> legends_;
   std::vector<std::optional<std::pair<double, double>>> ranges_;
   std::size_t streamline_count_ = 0;
 };

@@ -48,6 +48,9 @@ struct Snapshot {
   std::vector<float> attribute;       // raw colour attribute per particle, or empty
   std::string attribute_name;         // e.g. "speed", "type" — for labels
   bool attribute_categorical = false; // integer categories (species, type)
+  // Names of categories for the legend: category_names[k − 1] names category k (species
+  // of an XYZ file); empty: "type k".
+  std::vector<std::string> category_names;
   std::vector<Circle> obstacles;      // 2D solid circles drawn on top
   double time = 0;
   std::string time_unit;              // for the caption ("s"); empty in reduced units

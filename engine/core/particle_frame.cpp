@@ -59,6 +59,7 @@ void ParticleFrame::clear() {
   position.clear();
   radius.clear();
   velocity.clear();
+  velocity_columns = false;
   type.clear();
   type_names.clear();
   extra.clear();

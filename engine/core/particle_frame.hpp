@@ -36,6 +36,9 @@ struct ParticleFrame {
   std::vector<Vec3> position;
   std::vector<double> radius;
   std::vector<Vec3> velocity;  // empty when the file has none
+  // The file has velocity columns, even in a frame of 0 particles (a LAMMPS `fix pour`
+  // dump starts empty): has_velocity() and the columns vx, vy, vz, speed then exist.
+  bool velocity_columns = false;
   std::vector<int> type;       // 1-based, as LAMMPS
   // Optional names of types: type_names[t - 1] is the species name of type t (XYZ element
   // symbols, LAMMPS `element`). Empty when types are plain numbers.
@@ -44,7 +47,7 @@ struct ParticleFrame {
   std::vector<std::pair<std::string, std::vector<double>>> extra;
 
   std::size_t size() const { return position.size(); }
-  bool has_velocity() const { return !velocity.empty(); }
+  bool has_velocity() const { return velocity_columns || !velocity.empty(); }
 
   // Values of a named per-particle column, or nullptr when there is none. Serves, before
   // the extra columns: "id", "type", "x", "y", "z", "radius", "diameter", and with

@@ -27,6 +27,19 @@ LammpsDumpReader::LammpsDumpReader(std::string path) : in_(std::move(path)) {}
 LammpsDumpReader::LammpsDumpReader(LineReader&& in) : in_(std::move(in)) {}
 
 bool LammpsDumpReader::next(ParticleFrame& f) {
+  try {
+    return read_frame(f);
+  } catch (const TruncatedFrame&) {
+    throw;
+  } catch (const Error& e) {
+    // A bad last line without its '\n' is a line still being written (`1 1 0.52 0.3`
+    // of a longer one, `ITEM: BOX BOU`): the file ends inside this frame.
+    if (in_.last_line_unterminated()) throw TruncatedFrame(std::string(e.what()) + " (the file's last line is unfinished)");
+    throw;
+  }
+}
+
+bool LammpsDumpReader::read_frame(ParticleFrame& f) {
   std::string_view line;
   do {
     if (!in_.next(line)) return false;
@@ -41,7 +54,7 @@ bool LammpsDumpReader::next(ParticleFrame& f) {
   const long frame_line = in_.line_number();
 
   auto value_line = [&](const std::string& item) -> std::string_view {
-    if (!in_.next(line)) in_.fail("file ends after 'ITEM: " + printable(item, 80) + "'; expected its value on the next line");
+    if (!in_.next(line)) in_.fail_truncated("file ends after 'ITEM: " + printable(item, 80) + "'; expected its value on the next line");
     if (starts_with_item(line)) in_.fail("expected the value of 'ITEM: " + printable(item, 80) + "', got " + quote_token(trim(line)));
     return line;
   };
@@ -109,7 +122,7 @@ bool LammpsDumpReader::next(ParticleFrame& f) {
       in_.fail("unknown header " + quote_token(t) +
                "; expected ITEM: TIMESTEP, TIME, UNITS, NUMBER OF ATOMS, BOX BOUNDS or ATOMS");
     }
-    if (!in_.next(line)) in_.fail("file ends inside the header of the frame starting on line " + std::to_string(frame_line) + "; expected 'ITEM: ATOMS ...'");
+    if (!in_.next(line)) in_.fail_truncated("file ends inside the header of the frame starting on line " + std::to_string(frame_line) + "; expected 'ITEM: ATOMS ...'");
   }
   if (!natoms) in_.fail("'ITEM: ATOMS' without a preceding 'ITEM: NUMBER OF ATOMS' in this frame");
 
@@ -185,7 +198,7 @@ bool LammpsDumpReader::next(ParticleFrame& f) {
 
   for (std::size_t i = 0; i < n; ++i) {
     if (!in_.next(line))
-      in_.fail("file ends after " + std::to_string(i) + " of the " + std::to_string(n) + " atoms announced on line " +
+      in_.fail_truncated("file ends after " + std::to_string(i) + " of the " + std::to_string(n) + " atoms announced on line " +
                std::to_string(natoms_line) + " (truncated last frame?)");
     if (i == f.size()) resize_particles(f, grown_size(i, n), kDefaultRadius, have_vel);
     split_ws(line, tokens_);

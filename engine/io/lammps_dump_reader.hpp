@@ -8,6 +8,8 @@
 // either every radius is 0.5. vx vy [vz] -> velocity. id, type; a string `element` column
 // names the types. Every other column (mass, ix, c_..., f_..., v_...) is an extra column.
 // A triclinic box (BOX BOUNDS xy xz yz ...) is kept as its bounding box plus the tilts.
+// A frame of 0 atoms keeps its columns' meaning (has_velocity(): `fix pour` dumps start
+// empty). A file that ends inside a frame throws io::TruncatedFrame (line_reader.hpp).
 #pragma once
 #include <string>
 #include <vector>
@@ -29,6 +31,8 @@ public:
   static constexpr double kDefaultRadius = 0.5;
 
 private:
+  bool read_frame(ParticleFrame& frame);
+
   LineReader in_;
   std::vector<std::string_view> tokens_;
   std::vector<std::string> element_names_;

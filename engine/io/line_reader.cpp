@@ -67,6 +67,7 @@ LineReader::LineReader(LineReader&& o) noexcept
       nul_(o.nul_),
       origin_(o.origin_),
       eof_(o.eof_),
+      unterminated_(o.unterminated_),
       line_(o.line_) {
   o.fd_ = -1;
 }
@@ -124,6 +125,7 @@ bool LineReader::next(std::string_view& line) {
       break;  // a last line without '\n'
     }
   }
+  unterminated_ = pos_ + len >= end_ && eof_;
   line = std::string_view(buf_.get() + pos_, len);
   pos_ = std::min(pos_ + len + 1, end_);
   ++line_;
@@ -140,6 +142,7 @@ std::string_view LineReader::peek(std::size_t n) {
 
 void LineReader::rewind() {
   line_ = 0;
+  unterminated_ = false;
   if (origin_ == 0) {  // the buffer still holds the start of the file
     pos_ = 0;
     return;
@@ -168,6 +171,10 @@ std::optional<std::uint64_t> LineReader::bytes_left(bool refresh) {
 
 void LineReader::fail_at(long line, std::string_view message) const {
   throw Error(path_ + ":" + std::to_string(line) + ": " + std::string(message));
+}
+
+void LineReader::fail_truncated(std::string_view message) const {
+  throw TruncatedFrame(path_ + ":" + std::to_string(line_) + ": " + std::string(message));
 }
 
 void check_particle_limit(const LineReader& in, std::int64_t n) {

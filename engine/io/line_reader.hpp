@@ -15,6 +15,8 @@
 #include <string_view>
 #include <vector>
 
+#include "engine/core/error.hpp"
+
 namespace grainflow::io {
 
 // The longest line accepted (1 MiB). Real lines are far shorter: a particle line of a
@@ -26,6 +28,14 @@ inline constexpr std::size_t kMaxLineBytes = std::size_t{1} << 20;
 // particle (id, position, radius, type), so a billion particles is already 44 GB, beyond
 // what `grainflow render` can draw; larger counts are corrupt or hostile headers.
 inline constexpr std::int64_t kMaxParticles = 1'000'000'000;
+
+// The file ends inside a frame: it is still being written (a running LAMMPS job's dump) or
+// was cut short. Every frame read before this one was complete, so a caller may keep them
+// and say what was left out; anyone else treats it as the error it is.
+class TruncatedFrame : public Error {
+public:
+  using Error::Error;
+};
 
 class LineReader {
 public:
@@ -52,6 +62,9 @@ public:
   void rewind();
   // Line number of the line last returned by next() (1-based; 0 before the first).
   long line_number() const { return line_; }
+  // The line last returned is the file's last and has no '\n': a file another program is
+  // still writing (or one cut short) ends this way, perhaps in the middle of a number.
+  bool last_line_unterminated() const { return unterminated_; }
   const std::string& path() const { return path_; }
   // Bytes after the line last returned, when the file's size is known (a regular file
   // not shorter than what was read); nullopt for pipes, devices and /proc-like files.
@@ -61,6 +74,8 @@ public:
   // Throws grainflow::Error("path:line: message") for the current line / a given line.
   [[noreturn]] void fail(std::string_view message) const { fail_at(line_, message); }
   [[noreturn]] void fail_at(long line, std::string_view message) const;
+  // The same message as fail(), thrown as TruncatedFrame: the file ended inside a frame.
+  [[noreturn]] void fail_truncated(std::string_view message) const;
 
 private:
   // Reads more input after the buffered bytes, first moving the unread bytes to the front
@@ -77,6 +92,7 @@ private:
   std::size_t nul_;               // index of the first NUL byte in buf_[.. end_), or npos
   std::uint64_t origin_ = 0;      // file offset of buf_[0]
   bool eof_ = false;
+  bool unterminated_ = false;
   long line_ = 0;
 };
 

@@ -48,7 +48,10 @@ void resize_particles(ParticleFrame& f, std::size_t n, double default_radius, bo
   f.radius.resize(n, default_radius);
   f.id.resize(n);
   f.type.resize(n, 1);
-  if (with_velocity) f.velocity.resize(n, Vec3::Zero());
+  if (with_velocity) {
+    f.velocity.resize(n, Vec3::Zero());
+    f.velocity_columns = true;
+  }
   for (auto& column : f.extra) column.second.resize(n);
 }
 

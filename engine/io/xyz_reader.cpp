@@ -184,6 +184,19 @@ int XyzReader::species_type(std::string_view s) {
 }
 
 bool XyzReader::next(ParticleFrame& f) {
+  try {
+    return read_frame(f);
+  } catch (const TruncatedFrame&) {
+    throw;
+  } catch (const Error& e) {
+    // A bad last line without its '\n' is one still being written: the file ends inside
+    // this frame.
+    if (in_.last_line_unterminated()) throw TruncatedFrame(std::string(e.what()) + " (the file's last line is unfinished)");
+    throw;
+  }
+}
+
+bool XyzReader::read_frame(ParticleFrame& f) {
   std::string_view line;
   // Particle count (blank lines between frames and at the end are tolerated).
   do {
@@ -197,7 +210,7 @@ bool XyzReader::next(ParticleFrame& f) {
   const long count_line = in_.line_number();
 
   if (!in_.next(line))
-    in_.fail_at(count_line, "file ends after the particle count; expected a comment line and " + std::to_string(n) +
+    in_.fail_truncated("file ends after the particle count; expected a comment line and " + std::to_string(n) +
                                 " particle lines");
   f.clear();
   const std::string comment(line);
@@ -273,7 +286,7 @@ bool XyzReader::next(ParticleFrame& f) {
   const bool have_id = std::any_of(props.begin(), props.end(), [](const Property& p) { return p.role == Role::id; });
   for (std::size_t i = 0; i < count; ++i) {
     if (!in_.next(line))
-      in_.fail("file ends after " + std::to_string(i) + " of the " + std::to_string(n) +
+      in_.fail_truncated("file ends after " + std::to_string(i) + " of the " + std::to_string(n) +
                " particle lines announced on line " + std::to_string(count_line) + " (truncated frame?)");
     if (i == f.size()) resize_particles(f, grown_size(i, count), kDefaultRadius, have_vel);
     split_ws(line, tokens_);

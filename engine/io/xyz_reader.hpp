@@ -9,6 +9,7 @@
 // R/I/L property becomes an extra column (L as 0/1; a k-component property `f` becomes
 // f_x, f_y, f_z for k = 3, else f_0 ... f_{k-1}); other string properties are not read.
 // Plain XYZ: columns 5, 6, ... become extra columns "column5", "column6", ...
+// A file that ends inside a frame throws io::TruncatedFrame (line_reader.hpp).
 // Without a radius or diameter column every radius is 0.5 (unit diameter, the ED unit σ).
 // Species: if the first species of the file is an integer, species are type numbers
 // (LAMMPS `dump xyz`); otherwise every species is a name, typed 1, 2, ... in order of
@@ -34,6 +35,7 @@ public:
   static constexpr double kDefaultRadius = 0.5;
 
 private:
+  bool read_frame(ParticleFrame& frame);
   int species_type(std::string_view species);
 
   LineReader in_;

@@ -54,25 +54,39 @@ ViewTransform fit_2d(const Eigen::Vector2d& lo, const Eigen::Vector2d& hi, int w
   return v;
 }
 
+ViewTransform fit_2d(const Eigen::Vector2d& lo, const Eigen::Vector2d& hi, const OrbitCamera& cam, int width,
+                     int height) {
+  if (cam.zoom == 1.0 && !cam.target) return fit_2d(lo, hi, width, height);
+  const Eigen::Vector2d centre = cam.target ? Eigen::Vector2d(cam.target->head<2>()) : Eigen::Vector2d(0.5 * (lo + hi));
+  const Eigen::Vector2d half = 0.5 * (hi - lo) / std::max(cam.zoom, 1e-6);
+  return fit_2d(centre - half, centre + half, width, height);
+}
+
 ViewTransform fit_3d(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, const OrbitCamera& cam, int width,
                      int height) {
-  const Eigen::Vector3d centre = 0.5 * (lo + hi);
+  const Eigen::Vector3d centre = cam.target ? *cam.target : Eigen::Vector3d(0.5 * (lo + hi));
   const double radius = std::max(0.5 * (hi - lo).norm(), 1e-12) / std::max(cam.zoom, 1e-6);
+  // What the near and far planes must hold: the whole box, seen from the target.
+  double reach = std::max(0.5 * (hi - lo).norm(), 1e-12);
+  for (int corner = 0; cam.target && corner < 8; ++corner) {
+    const Eigen::Vector3d p((corner & 1) ? hi.x() : lo.x(), (corner & 2) ? hi.y() : lo.y(), (corner & 4) ? hi.z() : lo.z());
+    reach = std::max(reach, (p - centre).norm());
+  }
   const double az = cam.azimuth_deg * M_PI / 180, el = cam.elevation_deg * M_PI / 180;
   const Eigen::Vector3d dir(std::cos(el) * std::cos(az), std::cos(el) * std::sin(az), std::sin(el));
   const double aspect = double(width) / height;
   const double fov = cam.fov_y_deg * M_PI / 180;
   // Distance at which the bounding sphere fits both the vertical and horizontal FOV.
   const double fov_min = std::min(fov, 2 * std::atan(std::tan(fov / 2) * aspect));
-  const double dist = radius / std::sin(fov_min / 2) * 1.02;
+  const double dist = cam.distance ? *cam.distance : radius / std::sin(fov_min / 2) * 1.02;
   ViewTransform v;
   v.view = look_at(centre + dist * dir, centre, Eigen::Vector3d::UnitZ());
   if (cam.orthographic) {
     const double half_h = radius * 1.05 * std::max(1.0, 1.0 / aspect);
-    v.proj = ortho(-half_h * aspect, half_h * aspect, -half_h, half_h, dist - 2 * radius, dist + 2 * radius);
+    v.proj = ortho(-half_h * aspect, half_h * aspect, -half_h, half_h, dist - 2 * reach, dist + 2 * reach);
     v.pixels_per_unit = float(height / (2 * half_h));
   } else {
-    v.proj = perspective(fov, aspect, std::max(dist - 2 * radius, dist * 1e-3), dist + 2 * radius);
+    v.proj = perspective(fov, aspect, std::max(dist - 2 * reach, dist * 1e-3), dist + 2 * reach);
     v.pixels_per_unit = float(height / (2 * dist * std::tan(fov / 2)));
   }
   return v;

@@ -2,6 +2,7 @@
 // every malformed case must throw grainflow::Error naming file:line.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -304,4 +305,67 @@ TEST(MalformedXyz, EveryCaseNamesFileAndLine) {
   expect_error("x15.xyz", "1\nTime=abc Properties=species:S:1:pos:R:3\nH 0 0 0\n", 2, "Time=abc is not a finite number");
   expect_error("x16.xyz", "1\npbc=\"T T\" Lattice=\"1 0 0 0 1 0 0 0 1\"\nH 0 0 0\n", 2, "expected three of T/F");
   expect_error("x17.xyz", "1\nTime=nan Properties=species:S:1:pos:R:3\nH 0 0 0\n", 2, "Time=nan is not a finite number");
+}
+
+// A LAMMPS `fix pour` run dumps its empty box first (tests/data/particles/
+// lammps_pour_still_running.in made the file): the velocity columns exist from frame 0.
+TEST(PourDump, EmptyFirstFrameKeepsItsVelocityColumns) {
+  LammpsDumpReader r(data("lammps_pour_still_running.lammpstrj"));
+  ParticleFrame f;
+  ASSERT_TRUE(r.next(f));
+  EXPECT_EQ(f.size(), 0u);
+  EXPECT_EQ(f.timestep, 0);
+  EXPECT_EQ(f.dim, 3);
+  EXPECT_TRUE(f.has_velocity());
+  ASSERT_NE(f.column("speed"), nullptr);
+  EXPECT_TRUE(f.column("speed")->empty());
+  EXPECT_EQ(f.periodic, (std::array<bool, 3>{true, true, false}));  // boundary p p fm
+  ASSERT_TRUE(r.next(f));
+  EXPECT_EQ(f.size(), 10u);
+  ASSERT_NE(f.column("speed"), nullptr);
+  EXPECT_GT((*f.column("speed"))[0], 0.0);
+}
+
+// The dump ends inside its 7th frame, in the middle of a line, as a file still being
+// written does: six complete frames, then TruncatedFrame (an Error naming file:line).
+TEST(PourDump, AFileStillBeingWrittenEndsInATruncatedFrame) {
+  LammpsDumpReader r(data("lammps_pour_still_running.lammpstrj"));
+  ParticleFrame f;
+  std::vector<std::size_t> sizes;
+  try {
+    while (r.next(f)) sizes.push_back(f.size());
+    ADD_FAILURE() << "no error at the cut frame";
+  } catch (const TruncatedFrame& e) {
+    EXPECT_NE(std::string(e.what()).find("lammps_pour_still_running.lammpstrj:172:"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("unfinished"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(sizes, (std::vector<std::size_t>{0, 10, 20, 20, 24, 24}));
+}
+
+// Only a file that ends inside a frame is truncated; a bad line followed by more lines is
+// a malformed file.
+TEST(PourDump, TruncationIsTheEndOfTheFileOnly) {
+  auto kind = [](const std::string& path) {
+    try {
+      read_all(path);
+    } catch (const TruncatedFrame&) {
+      return std::string("truncated");
+    } catch (const Error&) {
+      return std::string("malformed");
+    }
+    return std::string("fine");
+  };
+  EXPECT_EQ(kind(data("malformed/truncated_last_frame.lammpstrj")), "truncated");  // ends after 1 of 2 atoms
+  EXPECT_EQ(kind(data("malformed/truncated.xyz")), "truncated");
+  EXPECT_EQ(kind(data("malformed/short_line.lammpstrj")), "malformed");  // a short line with its '\n'
+  const std::string atoms = "ITEM: ATOMS id type x y z radius\n";
+  EXPECT_EQ(kind(write_temp("cut_mid_number.lammpstrj", kDumpHead + atoms + "1 1 0.1 0.2 0.3 0.5\n2 1 0.1 0.")),
+            "truncated");
+  EXPECT_EQ(kind(write_temp("cut_header.lammpstrj", kDumpHead + atoms + "1 1 0.1 0.2 0.3 0.5\n2 1 0.1 0.2 0.3 0.5\n"
+                                                                          "ITEM: TIMESTEP\n100\nITEM: NUMBER OF AT")),
+            "truncated");
+  EXPECT_EQ(kind(write_temp("bad_then_more.lammpstrj", kDumpHead + atoms + "1 1 0.1 0.2 0.3 0.5\n2 1 0.1 0.\n")),
+            "malformed");
+  EXPECT_EQ(kind(write_temp("cut.xyz", "2\nProperties=species:S:1:pos:R:3\nH 0 0 0\nH 0 0")), "truncated");
+  EXPECT_EQ(kind(write_temp("complete_unterminated.xyz", "1\nProperties=species:S:1:pos:R:3\nH 0 0 0")), "fine");
 }

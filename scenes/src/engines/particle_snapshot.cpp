@@ -46,9 +46,11 @@ void to_snapshot(const core::ParticleFrame& frame, const std::string& attribute,
     d[2] = float(p.z());
     d[3] = float(frame.radius[i]);
   }
+  out.periodic = frame.periodic;
   out.attribute.clear();
   out.attribute_name = attribute;
   out.attribute_categorical = attribute == "type" || attribute == "id";
+  out.category_names = attribute == "type" ? frame.type_names : std::vector<std::string>{};
   if (attribute.empty()) return;
   const std::vector<double>* column = frame.column(attribute);
   if (!column) {

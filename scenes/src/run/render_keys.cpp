@@ -25,14 +25,7 @@ bool is_hex_colour(const std::string& s) {
 
 }  // namespace
 
-std::vector<std::string_view> ranged_panels() {
-  std::vector<std::string_view> out;
-  for (std::string_view name : render::panel_names()) {
-    const auto kind = render::panel_from_name(name).kind;
-    if (kind == render::PanelKind::field || kind == render::PanelKind::streamlines) out.push_back(name);
-  }
-  return out;
-}
+std::vector<std::string_view> ranged_panels() { return render::ranged_panel_names(); }
 
 Key<std::array<double, 2>> panel_range(std::string_view panel) {
   // Key paths are views: their text lives here for the life of the program.

@@ -92,11 +92,8 @@ public:
     for (auto& p : layout_.panels) p.filter = map_filter;
     // render.ranges.<panel>: fixed from the start (validation refused ranges of panels
     // that are not drawn).
-    const auto names = scene.get(render_keys::panels);
     for (std::string_view ranged : render_keys::ranged_panels())
-      if (auto r = scene.find(render_keys::panel_range(ranged)))
-        for (std::size_t i = 0; i < layout_.panels.size() && i < names.size(); ++i)
-          if (names[i] == ranged) layout_.panels[i].range = render::FieldRange::fixed((*r)[0], (*r)[1]);
+      if (auto r = scene.find(render_keys::panel_range(ranged))) render::set_fixed_range(layout_, ranged, (*r)[0], (*r)[1]);
     std::string notice;
     ctx_ = render::create_context(render::parse_backend(scene.get(render_keys::backend)), &notice);
     if (!notice.empty()) std::fprintf(stderr, "grainflow: %s\n", notice.c_str());
@@ -123,12 +120,7 @@ public:
   const render::Image& draw(const render::Snapshot& s) {
     const render::Image& image = renderer_->render(s, style_, layout_);
     // "run": a panel's first drawn range is kept for every frame after it.
-    if (run_ranges_) {
-      const auto& used = renderer_->last_panel_ranges();
-      for (std::size_t i = 0; i < used.size() && i < layout_.panels.size(); ++i)
-        if (used[i] && layout_.panels[i].range.mode != render::FieldRange::Mode::fixed)
-          layout_.panels[i].range = render::FieldRange::fixed(used[i]->first, used[i]->second);
-    }
+    if (run_ranges_) render::keep_drawn_ranges(layout_, renderer_->last_panel_ranges());
     return image;
   }
   // The colour range the first frame fixed: a resumed run draws with it too.
