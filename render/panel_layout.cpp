@@ -30,6 +30,13 @@ constexpr PanelRow kPanels[] = {
     {"density", [] { return field_panel("density"); }},
     {"temperature", [] { return field_panel("temperature", Colormap(ColormapId::inferno)); }},
     {"speed", [] { return field_panel("speed"); }},
+    // Signed: blue clockwise, red counter-clockwise, grey-white 0 (seed 003's eddies).
+    {"vorticity",
+     [] {
+       PanelSpec p = field_panel("vorticity", Colormap(ColormapId::cool_warm));
+       p.range.symmetric = true;
+       return p;
+     }},
     {"streamlines",
      [] {
        PanelSpec p;

@@ -24,7 +24,19 @@ double percentile_of_sorted(const std::vector<double>& v, double p) {
 }
 }  // namespace
 
+namespace {
+std::pair<double, double> resolve_one_sided(const std::vector<double>& values, const FieldRange& range);
+}  // namespace
+
 std::pair<double, double> resolve_range(const std::vector<double>& values, const FieldRange& range) {
+  const auto r = resolve_one_sided(values, range);
+  if (!range.symmetric || range.mode == FieldRange::Mode::fixed) return r;
+  const double m = std::max(std::abs(r.first), std::abs(r.second));
+  return m > 0 ? std::pair{-m, m} : std::pair{-1.0, 1.0};
+}
+
+namespace {
+std::pair<double, double> resolve_one_sided(const std::vector<double>& values, const FieldRange& range) {
   switch (range.mode) {
     case FieldRange::Mode::fixed:
       if (!(std::isfinite(range.lo) && std::isfinite(range.hi) && range.lo < range.hi))
@@ -57,6 +69,7 @@ std::pair<double, double> resolve_range(const std::vector<double>& values, const
   }
   return {0.0, 1.0};
 }
+}  // namespace
 
 std::pair<double, double> resolve_range(const core::ScalarField& field, const FieldRange& range) {
   std::vector<double> valid;

@@ -22,6 +22,9 @@ struct FieldRange {
   Mode mode = Mode::automatic;
   double lo = 0.0, hi = 1.0;                    // Mode::fixed
   double lo_percent = 2.0, hi_percent = 98.0;  // Mode::percentile, 0 ≤ lo < hi ≤ 100
+  // Signed fields (vorticity) on a diverging map: the automatic or percentile range is
+  // widened to [−m, m], m the larger end, so that 0 is the map's neutral centre.
+  bool symmetric = false;
 
   static FieldRange fixed(double lo, double hi) { return {Mode::fixed, lo, hi}; }
   static FieldRange percentile(double lo_percent, double hi_percent) {

@@ -24,6 +24,7 @@
 #include <limits>
 #include <string>
 
+#include "engine/core/binning.hpp"
 #include "engine/core/error.hpp"
 #include "engine/core/rng.hpp"
 #include "render/context/gl_context.hpp"
@@ -139,6 +140,27 @@ TEST_P(FieldRender, QuiverAndSpeedPanelsMatchGolden) {
   s.attribute.clear();
   s.caption = "quiver and bilinear |v|";
   golden::check_golden(r.render(s, FrameStyle{}, l), "fields_quiver", {kMaxChannel, kMaxFraction});
+}
+
+// The flow past the cylinder has vorticity of both signs (above and below it): the panel's
+// range is symmetric about 0, which the diverging map draws in its light centre.
+TEST_P(FieldRender, VorticityPanelIsSignedAndMatchesGolden) {
+  FrameRenderer r(*ctx_, 320, 220);
+  const std::vector<std::string> names = {"vorticity"};
+  FrameLayout l = make_layout(1, 1, names);
+  l.panels[0].filter = FieldFilter::bilinear;
+  Snapshot s = field_scene();
+  s.pos_radius.clear();
+  s.attribute.clear();
+  s.fields.push_back({"vorticity", "ω", core::vorticity(*s.velocity)});
+  s.caption = "vorticity, symmetric range";
+  const Image& img = r.render(s, FrameStyle{}, l);
+  ASSERT_EQ(r.last_panel_ranges().size(), 1u);
+  ASSERT_TRUE(r.last_panel_ranges()[0].has_value());
+  const auto [lo, hi] = *r.last_panel_ranges()[0];
+  EXPECT_GT(hi, 0.0);
+  EXPECT_DOUBLE_EQ(lo, -hi);
+  golden::check_golden(img, "fields_vorticity", {kMaxChannel, kMaxFraction});
 }
 
 TEST_P(FieldRender, ChangedFieldFailsComparison) {
@@ -345,14 +367,14 @@ TEST(FieldRange, PercentileIgnoresOneHotBin) {
 }
 
 TEST(PanelLayout, NamesAndGeometry) {
-  EXPECT_EQ(panel_names().size(), 6u);
+  EXPECT_EQ(panel_names().size(), 7u);
   for (auto n : panel_names()) EXPECT_NO_THROW(panel_from_name(n));
   try {
     panel_from_name("nonsense");
     FAIL();
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("nonsense"), std::string::npos);
-    EXPECT_NE(std::string(e.what()).find("particles, density, temperature, speed, streamlines, velocity"),
+    EXPECT_NE(std::string(e.what()).find("particles, density, temperature, speed, vorticity, streamlines, velocity"),
               std::string::npos);
   }
   const std::vector<std::string> five(5, "density");

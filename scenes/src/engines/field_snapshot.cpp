@@ -24,6 +24,7 @@ void set_binned_fields(core::BinnedFields f, render::Snapshot& s, const FieldUni
     s.fields.push_back({"samples", "particle-samples", std::move(samples)});
   }
   s.fields.push_back({"open_fraction", "open fraction", core::ScalarField(grid, 1.0)});
+  if (f.mean_velocity) s.fields.push_back({"vorticity", with_unit("ω", units.rate), core::vorticity(*f.mean_velocity)});
   if (f.mean_velocity) s.velocity = std::move(*f.mean_velocity);
   else s.velocity.reset();
   s.exposure = exposure;

@@ -1,6 +1,6 @@
 // Binned fields (engine/core/binning) → the named fields a Snapshot carries for the
 // field panels and the field files. The one mapping of field names used by `render` and
-// `run`: "density", "temperature" (kT), "speed" (<|v|>), "fraction", "samples"
+// `run`: "density", "temperature" (kT), "speed" (<|v|>), "vorticity" (ω_z of the mean velocity), "fraction", "samples"
 // (particle-samples per bin), "open_fraction" (the part of each bin open to particle
 // centres: 1 unless the runner says otherwise, as the ED runner does around its
 // obstacle), and the mean velocity.
@@ -19,6 +19,7 @@ struct FieldUnits {
   std::string density;      // number per unit bin area (3D: projected on the plane)
   std::string temperature;  // kT, an energy
   std::string speed;
+  std::string rate;         // vorticity, 1/time
 };
 
 void set_binned_fields(core::BinnedFields fields, render::Snapshot& s, const FieldUnits& units = {},

@@ -354,7 +354,7 @@ public:
                                       : plane == core::BinPlane::xz ? std::array{0, 2}
                                                                     : std::array{1, 2};
       // SI: kT = m<C²>/3 with the masses in kg (core::BinAccumulator::temperature).
-      set_binned_fields(std::move(f), s, {"m⁻²", "J", "m/s"}, render::FieldExposure{fields_begin_, sim_.time(), fields_.frames(), axes});
+      set_binned_fields(std::move(f), s, {"m⁻²", "J", "m/s", "1/s"}, render::FieldExposure{fields_begin_, sim_.time(), fields_.frames(), axes});
       fields_.reset();
       fields_begin_ = sim_.time();
     }

@@ -212,7 +212,7 @@ public:
     if (!exposures.empty()) {
       const ed::ExposureFields& e = exposures.back();
       // Reduced units (σ = m = 1, seed 003): only the density's unit says something.
-      set_binned_fields(std::move(exposures.back().fields), s, {"σ⁻²", "", ""}, render::FieldExposure{e.t_begin, e.t_end, e.samples, {0, 1}});
+      set_binned_fields(std::move(exposures.back().fields), s, {"σ⁻²", "", "", ""}, render::FieldExposure{e.t_begin, e.t_end, e.samples, {0, 1}});
       mask_solid_bins(s);
     }
     if (cfg.stream.x() != 0 || cfg.stream.y() != 0) s.reference_velocity = Eigen::Vector2d(cfg.stream.x(), cfg.stream.y());
