@@ -15,7 +15,7 @@ struct Result {
   std::string output;  // stdout + stderr
 };
 
-Result run(const std::string& args) {
+inline Result run(const std::string& args) {
   Result r;
   const std::string cmd = std::string(GRAINFLOW_EXE) + " " + args + " 2>&1";
   FILE* p = popen(cmd.c_str(), "r");
@@ -27,13 +27,13 @@ Result run(const std::string& args) {
   return r;
 }
 
-std::filesystem::path fresh_dir(const std::string& name) {
+inline std::filesystem::path fresh_dir(const std::string& name) {
   const std::filesystem::path d = std::filesystem::path(GRAINFLOW_TEST_OUT) / "cli" / name;
   std::filesystem::remove_all(d);
   std::filesystem::create_directories(d.parent_path());
   return d;
 }
 
-bool contains(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
+inline bool contains(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
 
 }  // namespace

@@ -17,35 +17,13 @@
 #include <sys/wait.h>
 
 #include "engine/io/particle_reader.hpp"
+#include "tests/scenes/cli_support.hpp"
 
 namespace fs = std::filesystem;
 using grainflow::core::ParticleFrame;
 
 namespace {
 
-struct Result {
-  int status = -1;
-  std::string output;  // stdout + stderr
-};
-
-Result run(const std::string& args) {
-  Result r;
-  const std::string cmd = std::string(GRAINFLOW_EXE) + " " + args + " 2>&1";
-  FILE* p = popen(cmd.c_str(), "r");
-  if (!p) return r;
-  std::array<char, 4096> buf{};
-  while (std::fgets(buf.data(), int(buf.size()), p)) r.output += buf.data();
-  const int raw = pclose(p);
-  r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
-  return r;
-}
-
-fs::path fresh_dir(const std::string& name) {
-  const fs::path d = fs::path(GRAINFLOW_TEST_OUT) / "particle_files" / name;
-  fs::remove_all(d);
-  fs::create_directories(d.parent_path());
-  return d;
-}
 
 const std::string scenes = GRAINFLOW_SCENES_DIR;
 

@@ -21,37 +21,14 @@
 #include "engine/dem/simulation.hpp"
 #include "engine/io/particle_reader.hpp"
 #include "scenes/src/engines/initial_file.hpp"
+#include "tests/scenes/cli_support.hpp"
 
 namespace fs = std::filesystem;
 using namespace grainflow;
 
 namespace {
 
-struct Result {
-  int status = -1;
-  std::string output;
-};
 
-Result run(const std::string& args) {
-  Result r;
-  const std::string cmd = std::string(GRAINFLOW_EXE) + " " + args + " 2>&1";
-  FILE* p = popen(cmd.c_str(), "r");
-  if (!p) return r;
-  std::array<char, 4096> buf{};
-  while (std::fgets(buf.data(), int(buf.size()), p)) r.output += buf.data();
-  const int raw = pclose(p);
-  r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
-  return r;
-}
-
-fs::path fresh_dir(const std::string& name) {
-  const fs::path d = fs::path(GRAINFLOW_TEST_OUT) / "setups" / name;
-  fs::remove_all(d);
-  fs::create_directories(d.parent_path());
-  return d;
-}
-
-bool contains(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
 
 const fs::path kLammpsDir = fs::path(GRAINFLOW_TEST_DATA) / "dem" / "lammps_oblique_spin";
 
