@@ -27,16 +27,7 @@ LammpsDumpReader::LammpsDumpReader(std::string path) : in_(std::move(path)) {}
 LammpsDumpReader::LammpsDumpReader(LineReader&& in) : in_(std::move(in)) {}
 
 bool LammpsDumpReader::next(ParticleFrame& f) {
-  try {
-    return read_frame(f);
-  } catch (const TruncatedFrame&) {
-    throw;
-  } catch (const Error& e) {
-    // A bad last line without its '\n' is a line still being written (`1 1 0.52 0.3`
-    // of a longer one, `ITEM: BOX BOU`): the file ends inside this frame.
-    if (in_.last_line_unterminated()) throw TruncatedFrame(std::string(e.what()) + " (the file's last line is unfinished)");
-    throw;
-  }
+  return read_frame_or_truncated(in_, [&] { return read_frame(f); });
 }
 
 bool LammpsDumpReader::read_frame(ParticleFrame& f) {

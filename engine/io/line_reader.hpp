@@ -121,4 +121,19 @@ std::string printable(std::string_view text, std::size_t max_chars = 40);
 // A token shortened to at most 40 characters, quoted, for error messages (printable()).
 std::string quote_token(std::string_view token);
 
+// One frame read by `read` (a reader's own frame parser): an error on a last line without
+// its '\n' — a line still being written (`1 1 0.52 0.3` of a longer one, `ITEM: BOX BOU`) —
+// means the file ends inside this frame, and becomes TruncatedFrame.
+template <class Read>
+bool read_frame_or_truncated(const LineReader& in, Read&& read) {
+  try {
+    return read();
+  } catch (const TruncatedFrame&) {
+    throw;
+  } catch (const Error& e) {
+    if (in.last_line_unterminated()) throw TruncatedFrame(std::string(e.what()) + " (the file's last line is unfinished)");
+    throw;
+  }
+}
+
 }  // namespace grainflow::io

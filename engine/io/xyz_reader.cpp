@@ -184,16 +184,7 @@ int XyzReader::species_type(std::string_view s) {
 }
 
 bool XyzReader::next(ParticleFrame& f) {
-  try {
-    return read_frame(f);
-  } catch (const TruncatedFrame&) {
-    throw;
-  } catch (const Error& e) {
-    // A bad last line without its '\n' is one still being written: the file ends inside
-    // this frame.
-    if (in_.last_line_unterminated()) throw TruncatedFrame(std::string(e.what()) + " (the file's last line is unfinished)");
-    throw;
-  }
+  return read_frame_or_truncated(in_, [&] { return read_frame(f); });
 }
 
 bool XyzReader::read_frame(ParticleFrame& f) {
