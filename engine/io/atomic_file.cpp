@@ -89,4 +89,18 @@ void write_text_atomically(const std::filesystem::path& path, std::string_view t
   file.commit();
 }
 
+void make_output_folder(const std::filesystem::path& path) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  const fs::file_status st = fs::symlink_status(path, ec);
+  if (fs::is_symlink(st))
+    throw Error("output folder '" + path.string() + "' is a link; grainflow writes only into folders of its own, "
+                "never through a link; allowed: remove the link or choose another run folder");
+  if (fs::exists(st) && !fs::is_directory(st))
+    throw Error("output folder '" + path.string() + "' exists and is not a folder; allowed: remove it or choose "
+                "another run folder");
+  fs::create_directories(path, ec);
+  if (ec) throw Error("cannot create output folder '" + path.string() + "': " + ec.message());
+}
+
 }  // namespace grainflow::io

@@ -44,4 +44,11 @@ private:
 // on device"), and leaves the previous file in place.
 void write_text_atomically(const std::filesystem::path& path, std::string_view text);
 
+// Creates the folder `path` (with parents) for output files, or accepts it when it is
+// already a real folder. A link there (or any other file) is refused with a
+// grainflow::Error: files written through a link would land in — and overwrite — a folder
+// the run does not own. Every output subfolder (frames/, fields/, checkpoints/) goes
+// through here.
+void make_output_folder(const std::filesystem::path& path);
+
 }  // namespace grainflow::io

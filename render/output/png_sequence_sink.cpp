@@ -5,16 +5,13 @@
 #include <utility>
 
 #include "engine/core/error.hpp"
+#include "engine/io/atomic_file.hpp"
 
 namespace grainflow::render {
 
 PngSequenceSink::PngSequenceSink(std::filesystem::path directory, PngOptions options)
     : directory_(std::move(directory)), options_(options) {
-  std::error_code ec;
-  std::filesystem::create_directories(directory_, ec);
-  if (ec) throw Error("cannot create frame directory '" + directory_.string() + "': " + ec.message());
-  if (!std::filesystem::is_directory(directory_))
-    throw Error("frame directory '" + directory_.string() + "' exists but is not a directory");
+  io::make_output_folder(directory_);
 }
 
 std::filesystem::path PngSequenceSink::frame_path(std::int64_t index) const {

@@ -229,6 +229,24 @@ TEST(CliRun, ForceKeepsTheUsersOwnFiles) {
   EXPECT_TRUE(fs::exists(run_dir / "disks_box.mp4"));
 }
 
+// The manifest names frames/frame_*.png; were frames/ replaced by a link to a folder of the
+// user's, --force must neither delete the user's numbered files there nor write over them.
+TEST(CliRun, ForceDoesNotRemoveThroughALinkedFolder) {
+  const fs::path run_dir = fresh_dir("run_linked_frames");
+  const std::string args = "run " + scenes + "/disks_box.toml -o " + run_dir.string() +
+                           " --set system.box=[20.0,20.0] --set run.until=4.0 --set render.size=[64,64]";
+  ASSERT_EQ(run(args).status, 0);
+  const fs::path users = fresh_dir("users_numbered_pictures");
+  write_file(users / "frame_000001.png", "mine");
+  fs::remove_all(run_dir / "frames");
+  fs::create_directory_symlink(users, run_dir / "frames");
+  const Result r = run(args + " --force");
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_TRUE(contains(r.output, "is a link")) << r.output;
+  EXPECT_EQ(read_file(users / "frame_000001.png"), "mine");
+  EXPECT_TRUE(fs::is_symlink(run_dir / "frames"));
+}
+
 // A start that fails (the engine's set-up, an output option) leaves no folder behind, so
 // the corrected command is not refused.
 TEST(CliRun, FailedStartLeavesNoFolder) {

@@ -270,9 +270,7 @@ private:
   };
 
   void make_folder() {
-    std::error_code ec;
-    std::filesystem::create_directories(dir_ / "fields", ec);
-    if (ec) throw Error("cannot create '" + (dir_ / "fields").string() + "': " + ec.message());
+    io::make_output_folder(dir_ / "fields");
   }
   void write_collection() const {
     std::string x = "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n"

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "engine/core/error.hpp"
+#include "engine/io/atomic_file.hpp"
 #include "scenes/src/run/run_folder.hpp"
 
 namespace grainflow::scenes {
@@ -19,9 +20,7 @@ void CheckpointStore::write(io::CheckpointInfo info, std::string_view payload) {
   info.sequence = ++sequence_;
   const char* slot = kSlots[info.sequence % 2];
   folder_.claim(slot);
-  std::error_code ec;
-  std::filesystem::create_directories(folder_.file("checkpoints"), ec);
-  if (ec) throw Error("cannot create '" + folder_.file("checkpoints").string() + "': " + ec.message());
+  io::make_output_folder(folder_.file("checkpoints"));
   io::write_checkpoint(folder_.file(slot), info, payload);
 }
 

@@ -56,6 +56,12 @@ bool valid_claim(std::string_view name) {
 // AtomicFile temporaries `<name>.tmp-<pid>-<n>`.
 void remove_claimed(const fs::path& dir, const std::string& name) {
   std::error_code ec;
+  // A claim one folder down is removed only through a real folder of DIR: were that folder
+  // replaced by a link, removing through it would delete files outside the run folder.
+  if (const std::size_t slash = name.find('/'); slash != std::string::npos) {
+    const fs::file_status st = fs::symlink_status(dir / name.substr(0, slash), ec);
+    if (ec || !fs::is_directory(st)) return;
+  }
   // A numbered series, "FOLDER/PREFIX*SUFFIX" (kFrameFiles, the field files): every
   // PREFIX<6 or more digits>SUFFIX in FOLDER, with its AtomicFile temporaries; nothing else.
   if (const std::size_t star = name.find('*'); star != std::string::npos) {
@@ -165,9 +171,13 @@ RunFolder RunFolder::open(const fs::path& dir, RunFolderMode mode) {
     if (ec) throw Error("cannot create run folder '" + dir.string() + "': " + ec.message());
     folder.lock();
   }
-  folder.created_frames_ = !fs::exists(dir / "frames", ec);
-  fs::create_directories(dir / "frames", ec);
-  if (ec) throw Error("cannot create run folder '" + (dir / "frames").string() + "': " + ec.message());
+  folder.created_frames_ = !fs::exists(fs::symlink_status(dir / "frames", ec));
+  try {
+    io::make_output_folder(dir / "frames");
+  } catch (const Error&) {
+    folder.abandon();
+    throw;
+  }
   // An existing folder may still be read-only; find out now, not after hours of simulation.
   try {
     io::AtomicFile probe(dir / ".grainflow-write-test");
