@@ -181,6 +181,10 @@ void FrameRenderer::draw_geometry(const Snapshot& s, const FrameStyle& style, co
       for (const auto& c : s.obstacles)
         add_circle(geometry_, c.centre.cast<float>(), float(c.radius), edge, 1.5f);
     }
+    // Piston and filter: a line twice the outline's width, so they read as planes.
+    for (const auto& l : s.boundary_lines)
+      add_polyline(geometry_, {{float(l.a.x()), float(l.a.y()), 0.f}, {float(l.b.x()), float(l.b.y()), 0.f}}, edge,
+                   3.0f);
     if (style.draw_domain) {
       const std::vector<Eigen::Vector3f> box = {{float(s.lo.x()), float(s.lo.y()), 0.f},
                                                 {float(s.hi.x()), float(s.lo.y()), 0.f},

@@ -151,4 +151,30 @@ FrameGeometry layout_frame(const FrameLayout& layout, int width, int height, boo
   return g;
 }
 
+std::pair<int, int> fitted_grid(int panels, int width, int height, double aspect, bool with_caption) {
+  panels = std::clamp(panels, 1, 64);
+  if (!(aspect > 0) || !std::isfinite(aspect)) aspect = 1.0;
+  std::pair<int, int> best{1, 1};
+  double best_area = -1;
+  int best_empty = 0;
+  for (int cols = 1; cols <= std::min(panels, 8); ++cols) {
+    const int rows = (panels + cols - 1) / cols;
+    if (rows > 8) continue;
+    FrameLayout trial;
+    trial.cols = cols;
+    trial.rows = rows;
+    const PixelRect plot = layout_frame(trial, width, height, with_caption).panels.front().plot;
+    const double w = std::min<double>(plot.w, plot.h * aspect);  // the domain fitted in
+    const double area = w * (w / aspect);
+    const int empty = cols * rows - panels;
+    // 1 % of area counts as a tie: then the grid with fewer empty cells.
+    if (area > best_area * 1.01 || (area > best_area * 0.99 && empty < best_empty)) {
+      if (area > best_area) best_area = area;
+      best = {cols, rows};
+      best_empty = empty;
+    }
+  }
+  return best;
+}
+
 }  // namespace grainflow::render

@@ -84,4 +84,11 @@ struct FrameGeometry {
 // panel size (titles 10–28 px).
 FrameGeometry layout_frame(const FrameLayout& layout, int width, int height, bool with_caption);
 
+// The panel grid (cols, rows) for `panels` panels in a width × height frame that draws a
+// domain of width/height `aspect` largest: every cols from 1 to `panels` with the fewest
+// rows that hold them, scored by the area the domain fills in one cell's picture (on a
+// wide frame a wide domain gets a column of panels, a square one a row or a 2 × 2 grid).
+// Ties go to the grid with fewer empty cells.
+std::pair<int, int> fitted_grid(int panels, int width, int height, double aspect, bool with_caption);
+
 }  // namespace grainflow::render

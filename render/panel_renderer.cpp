@@ -222,11 +222,12 @@ void PanelRenderer::draw(FrameRenderer& frame, const Snapshot& s, const FrameSty
           label = "|<v>|";  // the speed of the mean velocity, not the mean speed <|v|>
         }
         if (!f) {
-          missing = "no " + spec.field + " field";
+          missing = s.fields_pending.empty() ? "no " + spec.field + " field" : s.fields_pending;
+          frame.draw_geometry(*planar_geometry, style, view, plot.w, plot.h, true);
           break;
         }
         const auto range = resolve_range(*f, spec.range);
-        fields_.draw(view, *f, range, cmap, spec.filter);
+        fields_.draw(view, *f, range, cmap, spec.filter, solids_);
         frame.draw_geometry(*planar_geometry, style, view, plot.w, plot.h, true);
         bar = PendingBar{{}, range, cmap, label, g.tick_px};
         mark_clipped(f->values, f->mask, range, *bar);
@@ -236,7 +237,8 @@ void PanelRenderer::draw(FrameRenderer& frame, const Snapshot& s, const FrameSty
       case PanelKind::streamlines:
       case PanelKind::velocity: {
         if (!s.velocity) {
-          missing = "no velocity field";
+          missing = s.fields_pending.empty() ? "no velocity field" : s.fields_pending;
+          frame.draw_geometry(*planar_geometry, style, view, plot.w, plot.h, true);
           break;
         }
         const bool relative = spec.streamlines.relative_to_reference && s.reference_velocity;
@@ -248,7 +250,7 @@ void PanelRenderer::draw(FrameRenderer& frame, const Snapshot& s, const FrameSty
           const auto& speed = speed_field(*s.velocity, relative ? reference : Vec2(0.0, 0.0));
           range = resolve_range(speed, spec.range);
           ranges_[i] = range;
-          fields_.draw(view, speed, range, cmap, spec.filter);
+          fields_.draw(view, speed, range, cmap, spec.filter, solids_);
           streamlines_.draw(view, plot.w, plot.h, *s.velocity, solids_, spec.streamlines, reference);
         } else {
           StreamlineStyle st = spec.streamlines;

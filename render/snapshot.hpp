@@ -23,6 +23,12 @@ struct Circle {
 
 // A named scalar field: `name` is what panels ask for ("density", "temperature",
 // "speed", …); `label` is the colour-bar label (e.g. "kT"), the name when empty.
+// A boundary plane across a 2D domain (the dispenser piston, the outlet filter): drawn as
+// a line on every panel, so that the reader sees where the stream is fed and let out.
+struct BoundaryLine {
+  Eigen::Vector2d a{0, 0}, b{0, 0};
+};
+
 struct NamedField {
   std::string name;
   std::string label;
@@ -52,6 +58,7 @@ struct Snapshot {
   // of an XYZ file); empty: "type k".
   std::vector<std::string> category_names;
   std::vector<Circle> obstacles;      // 2D solid circles drawn on top
+  std::vector<BoundaryLine> boundary_lines;  // 2D planes drawn on top (piston, filter)
   double time = 0;
   std::string time_unit;              // for the caption ("s"); empty in reduced units
   std::string length_unit;            // for the scale bars ("σ", "m"); empty when unknown
@@ -64,6 +71,9 @@ struct Snapshot {
   std::optional<Eigen::Vector2d> reference_velocity;
   // Set with the fields by a run (not by `grainflow render`): the exposure that made them.
   std::optional<FieldExposure> exposure;
+  // Set by a run whose fields do not exist yet (the first exposure is not over): what a
+  // field panel says instead of "no density field" (e.g. "fields from t = 8").
+  std::string fields_pending;
   // Caption line under the panels: `caption` when set, else "key = value" pairs joined
   // (e.g. {"t", "120"}, {"U", "0.1"}, {"Re", "40"}, {"τ_E", "480"}, {"N", "160000"}).
   std::string caption;

@@ -37,6 +37,8 @@ public:
   // Completed exposures, oldest first; take_frames() hands them over and clears the list.
   const std::vector<ExposureFields>& frames() const { return frames_; }
   std::vector<ExposureFields> take_frames();
+  // When the exposure in progress ends (its frame comes out then).
+  double exposure_end() const { return t_begin_ + cfg_.exposure; }
 
 private:
   SamplerConfig cfg_;

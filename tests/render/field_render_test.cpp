@@ -391,6 +391,34 @@ TEST(PanelLayout, NamesAndGeometry) {
   EXPECT_EQ(g.panels[5].panel.right(), 1001);
 }
 
+// Without render.layout the grid is the one that draws the domain largest: a 2:1 stream in
+// a 16:9 frame fills a 2 × 2 grid, a 4:1 stream stacks its panels, a tall box lines them
+// up; three panels of a square box at 16:9 go in one row rather than a 2 × 2 grid with a
+// hole. The chosen grid is never beaten by another one.
+TEST(PanelLayout, FittedGridDrawsTheDomainLargest) {
+  auto fitted_area = [](int cols, int rows, int w, int h, double aspect) {
+    FrameLayout l;
+    l.cols = cols;
+    l.rows = rows;
+    const PixelRect p = layout_frame(l, w, h, true).panels.front().plot;
+    const double x = std::min<double>(p.w, p.h * aspect);
+    return x * x / aspect;
+  };
+  EXPECT_EQ(fitted_grid(4, 1280, 720, 2.0, true), std::make_pair(2, 2));
+  EXPECT_EQ(fitted_grid(4, 1280, 720, 4.0, true), std::make_pair(1, 4));
+  EXPECT_EQ(fitted_grid(4, 1280, 720, 0.25, true), std::make_pair(4, 1));
+  EXPECT_EQ(fitted_grid(3, 1920, 1080, 1.0, true), std::make_pair(3, 1));
+  EXPECT_EQ(fitted_grid(1, 640, 480, 1.0, true), std::make_pair(1, 1));
+  for (double aspect : {0.3, 1.0, 2.0, 3.0, 6.0})
+    for (int n : {1, 2, 3, 4, 5, 6}) {
+      const auto [c, r] = fitted_grid(n, 1920, 1080, aspect, true);
+      ASSERT_GE(c * r, n);
+      for (int cols = 1; cols <= n; ++cols)
+        EXPECT_GE(fitted_area(c, r, 1920, 1080, aspect) * 1.011, fitted_area(cols, (n + cols - 1) / cols, 1920, 1080, aspect))
+            << n << " panels, aspect " << aspect << ": " << c << " × " << r << " against " << cols << " columns";
+    }
+}
+
 TEST(Caption, FromLabels) {
   Snapshot s;
   s.labels = {{"t", "1"}, {"U", "0.1"}};

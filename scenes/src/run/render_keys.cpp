@@ -45,7 +45,13 @@ void declare(Schema& s, std::vector<std::string> colour_attributes) {
       .at_least(16)
       .at_most(8192)
       .with_note("odd sizes are padded to even for the H.264 MP4");
-  table.add_int_array(layout, {1, 1}, {"cols", "rows"}, "panel grid of each frame").at_least(1).at_most(8);
+  table
+      .add_int_array(layout, {1, 1}, {"cols", "rows"},
+                     "panel grid of each frame; when absent it is chosen from render.size and the domain's aspect "
+                     "so that the domain is drawn largest (a wide stream gets its panels stacked)")
+      .at_least(1)
+      .at_most(8)
+      .optional();
   table
       .add_string_array(panels, {render::panel_names().begin(), render::panel_names().end()}, {"particles"},
                         "panels, filled row by row into the layout")
@@ -74,12 +80,11 @@ void declare(Schema& s, std::vector<std::string> colour_attributes) {
   table.add_int(msaa, 4, "multisample anti-aliasing samples per pixel (0 = off)").at_least(0).at_most(16);
   table.add_string(background, "#ffffff", "background colour, \"#rrggbb\" or \"#rrggbbaa\"");
   s.add_check([](const Scene& sc, SceneCheck& c) {
-    const auto grid = sc.get(layout);
     const auto names = sc.get(panels);
-    if (names.size() > std::size_t(grid[0]) * std::size_t(grid[1]))
+    if (const auto grid = sc.find(layout); grid && names.size() > std::size_t((*grid)[0]) * std::size_t((*grid)[1]))
       c.fail(panels.path, std::to_string(names.size()) + " panels do not fit render.layout = [" +
-                                  std::to_string(grid[0]) + ", " + std::to_string(grid[1]) +
-                                  "]; allowed: at most cols × rows = " + std::to_string(grid[0] * grid[1]) +
+                                  std::to_string((*grid)[0]) + ", " + std::to_string((*grid)[1]) +
+                                  "]; allowed: at most cols × rows = " + std::to_string((*grid)[0] * (*grid)[1]) +
                                   " panels");
     if (auto r = sc.find(range); r && !((*r)[0] < (*r)[1]))
       c.fail(range.path, "render.range = [" + toml_float((*r)[0]) + ", " + toml_float((*r)[1]) +

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 #include <initializer_list>
+#include <tuple>
 #include <memory>
 #include <optional>
 #include <string>
@@ -86,7 +87,8 @@ public:
         fixed_range_(scene.find(render_keys::range)),
         title_(scene.get(run_keys::title)),
         exposure_(scene.get(sample_keys::exposure)),
-        run_ranges_(scene.get(render_keys::range_mode) == "run") {
+        run_ranges_(scene.get(render_keys::range_mode) == "run"),
+        fit_grid_(!scene.has(render_keys::layout)) {
     const auto map_filter = scene.get(render_keys::filter) == "nearest" ? render::FieldFilter::nearest
                                                                         : render::FieldFilter::bilinear;
     for (auto& p : layout_.panels) p.filter = map_filter;
@@ -118,6 +120,15 @@ public:
     s.caption = caption(title_, exposure_, s);
   }
   const render::Image& draw(const render::Snapshot& s) {
+    if (fit_grid_) {
+      // The domain's width over height as drawn: the x–y plane in 2D; a 3D box is drawn in
+      // perspective, about square.
+      const Eigen::Vector3d extent = s.hi - s.lo;
+      const double aspect = s.dim == 2 && extent.y() > 0 ? extent.x() / extent.y() : 1.0;
+      std::tie(layout_.cols, layout_.rows) = render::fitted_grid(int(layout_.panels.size()), renderer_->width(),
+                                                                 renderer_->height(), aspect, layout_.caption);
+      fit_grid_ = false;
+    }
     const render::Image& image = renderer_->render(s, style_, layout_);
     // "run": a panel's first drawn range is kept for every frame after it.
     if (run_ranges_) render::keep_drawn_ranges(layout_, renderer_->last_panel_ranges());
@@ -163,6 +174,7 @@ private:
   render::FrameStyle style_;
   bool range_fixed_ = false;
   bool run_ranges_;  // render.range_mode = "run"
+  bool fit_grid_;    // no render.layout: the grid is fitted to the domain at the first frame
 };
 
 // The outputs of one run: the output table's (image sinks encode on threads of their
@@ -344,8 +356,12 @@ LoopState load_loop(io::ArchiveReader& r, RunRecord& record, std::string& name) 
 
 int run_scene(const Scene& scene, const RunOptions& opt) {
   // Everything decided by the scene alone is checked before the folder exists.
-  const auto grid = scene.get(render_keys::layout);
-  const render::FrameLayout layout = render::make_layout(grid[0], grid[1], scene.get(render_keys::panels));
+  // Without render.layout the grid is fitted to the domain at the first frame (FrameDrawing);
+  // until then rows of up to 8 hold them.
+  const auto panel_names = scene.get(render_keys::panels);
+  const int n = int(panel_names.size());
+  const auto grid = scene.find(render_keys::layout).value_or(std::array<int, 2>{std::min(n, 8), (n + 7) / 8});
+  const render::FrameLayout layout = render::make_layout(int(grid[0]), int(grid[1]), panel_names);
   const EngineEntry* engine = find_engine(scene.engine());
   if (!engine) throw Error("unknown engine '" + scene.engine() + "'");
 

@@ -341,6 +341,8 @@ public:
       if (attribute.value) s.attribute[i] = float(attribute.value(sim_, i));
     }
     s.obstacles.clear();
+    // The fields of a frame are averaged since the frame before: the first has none yet.
+    s.fields_pending = fields_.frames() > 0 ? std::string() : "fields from the next frame (averaged since this one)";
     if (fields_.frames() > 0) {
       core::BinnedFields f;
       f.density = fields_.density();

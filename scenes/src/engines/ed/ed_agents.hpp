@@ -39,6 +39,10 @@ public:
   // True when the field bin centred at p holds no gas (inside a solid, beyond a filter):
   // masked, not "empty".
   virtual bool solid(const Vec2& /*p*/) const { return false; }
+  // The share of the time a disk centre (of radius `radius`) at p is free of a moving
+  // boundary (the dispenser piston sweeping its strip): 1 where nothing moves. The open
+  // area a bin's density is divided by weighs each point by it.
+  virtual double open_share(const Vec2& /*p*/, double /*radius*/) const { return 1.0; }
   // stats.csv columns, and their values over the window of `duration` since the last row.
   virtual std::vector<StatsColumn> stats_columns() const { return {}; }
   virtual void stats_row(double /*duration*/, std::vector<double>& /*row*/) {}

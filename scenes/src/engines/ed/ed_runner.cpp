@@ -202,6 +202,7 @@ public:
       if (attribute.value) s.attribute[out] = float(attribute.value(sim_, i, d));
     }
     s.obstacles.clear();
+    s.boundary_lines.clear();
     s.labels.clear();
     for (const auto& a : agents_) {
       a->draw(s);
@@ -215,6 +216,8 @@ public:
       set_binned_fields(std::move(exposures.back().fields), s, {"σ⁻²", "", "", ""}, render::FieldExposure{e.t_begin, e.t_end, e.samples, {0, 1}});
       mask_solid_bins(s);
     }
+    s.fields_pending = s.fields.empty() ? fmt::format("fields from t = {:g} (first exposure)", sampler_->exposure_end())
+                                        : std::string();
     if (cfg.stream.x() != 0 || cfg.stream.y() != 0) s.reference_velocity = Eigen::Vector2d(cfg.stream.x(), cfg.stream.y());
   }
 
@@ -406,8 +409,13 @@ private:
   // fraction, not by the whole bin (else a false depletion ring is drawn around the
   // obstacle, exactly where compression is expected).
   void mask_solid_bins(render::Snapshot& s) {
-    if (agents_.empty()) return;
+    const auto& cfg = sim_.config();
+    // Hard walls close a non-periodic axis (x only when no stream opens it): beyond them
+    // is solid, so the bins along them are divided by their open part too.
+    const bool wall_x = !cfg.periodic_x && !cfg.open_x, wall_y = !cfg.periodic_y;
+    if (agents_.empty() && !wall_x && !wall_y) return;
     auto solid = [&](const Vec2& p) {
+      if ((wall_x && (p.x() < 0 || p.x() > cfg.lx)) || (wall_y && (p.y() < 0 || p.y() > cfg.ly))) return true;
       for (const auto& a : agents_)
         if (a->solid(p)) return true;
       return false;
@@ -454,11 +462,16 @@ private:
     const double wx = (g.hi.x() - g.lo.x()) / g.nx, wy = (g.hi.y() - g.lo.y()) / g.ny;
     for (int iy = 0; iy < g.ny; ++iy)
       for (int ix = 0; ix < g.nx; ++ix) {
-        int free = 0;
+        double free = 0;
         for (int a = 0; a < k; ++a)
-          for (int c = 0; c < k; ++c)
-            free += !excluded(Vec2(g.lo.x() + (ix + (a + 0.5) / k) * wx, g.lo.y() + (iy + (c + 0.5) / k) * wy));
-        open_[g.index(ix, iy)] = double(free) / (k * k);
+          for (int c = 0; c < k; ++c) {
+            const Vec2 p(g.lo.x() + (ix + (a + 0.5) / k) * wx, g.lo.y() + (iy + (c + 0.5) / k) * wy);
+            if (excluded(p)) continue;
+            double share = 1.0;
+            for (const auto& ag : agents_) share *= ag->open_share(p, r);
+            free += share;
+          }
+        open_[g.index(ix, iy)] = free / (k * k);
         centre_solid_[g.index(ix, iy)] = solid(g.centre(ix, iy));
       }
     open_grid_ = g;

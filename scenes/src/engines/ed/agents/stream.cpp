@@ -1,6 +1,7 @@
 // The stream boundaries along x of seed 003 §3.1–3.3 ([boundary.stream]): periodic, a
 // low-density inlet/outlet by flux distributions, or the dispenser piston + filter of a
 // dense stream, with the system's U, kT and area fraction. Masks the bins beyond the filter.
+#include <algorithm>
 #include <cmath>
 #include <memory>
 #include <numbers>
@@ -89,6 +90,20 @@ public:
   explicit DenseStreamRun(ed::DenseStream d) : dense_(d) {}
   // Frozen disks beyond the filter are not sampled: no gas there.
   bool solid(const Vec2& p) const override { return dense_.filter && p.x() > dense_.filter->plane(); }
+  // The piston sweeps its strip [0, s] at the stream speed and jumps back, so its position
+  // X is uniform over [0, s] in time: a centre at x is free of it when x ≥ X + radius.
+  double open_share(const Vec2& p, double radius) const override {
+    if (!dense_.piston) return 1.0;
+    return std::clamp((p.x() - radius) / dense_.piston->strip(), 0.0, 1.0);
+  }
+  void draw(render::Snapshot& s) const override {
+    const double ly = s.hi.y();
+    if (dense_.piston) {
+      const double x = dense_.piston->position(s.time);
+      s.boundary_lines.push_back({{x, 0.0}, {x, ly}});
+    }
+    if (dense_.filter) s.boundary_lines.push_back({{dense_.filter->plane(), 0.0}, {dense_.filter->plane(), ly}});
+  }
   // Only pointers to agents, whose state the simulation's checkpoint holds.
   void save(io::ArchiveWriter&) const override {}
   void load(io::ArchiveReader&) override {}
