@@ -138,6 +138,9 @@ std::vector<Case> cases(const fs::path& dir) {
                        "hold_tolerance = 0.5\n",
        {"system.area_fraction=0.3", "system.e=0.9", "system.tau_tc=1e-4", "output.stats_every=0.05",
         "output.png=false", "output.mp4=false"}},
+      // The medium's keys are read only with [medium].
+      {kEd + kRender + "[boundary.obstacle]\nD = 4.0\nx = 12.0\ny = 12.0\n[medium]\nnu = 0.7\nsound_speed = 1.5\n",
+       {"system.N=60", "system.U=0.5", "output.png=false", "output.mp4=false"}},
       {kDem + kRender, {"system.initial.kind=\"lattice\"", "output.particles=true", "output.fields=true", "render.color_by=\"group\"",
                         "render.layout=[2, 1]", "render.panels=[\"density\", \"temperature\"]",
                         "render.ranges.density=[0.0, 1.0]"}},

@@ -70,6 +70,12 @@ inline constexpr Key<double> phase_obstacle_r{"phase.obstacle_r"};
 inline constexpr Key<bool> phase_thermostat{"phase.thermostat"};
 inline constexpr Key<double> phase_thermostat_T{"phase.thermostat_T"};
 
+// The fluid's measured transport numbers (agents/medium.cpp), optional: with a stream and
+// an obstacle the caption and run.json give Re = U D / nu and Ma = U / sound_speed.
+inline constexpr TableKey medium{"medium"};
+inline constexpr Key<double> medium_nu{"medium.nu"};
+inline constexpr Key<double> medium_sound_speed{"medium.sound_speed"};
+
 // The area fraction the scene asks for, from whichever of area_fraction, n or N it gives
 // (0 when none): the one conversion the cross-checks use.
 double requested_area_fraction(const Scene& sc);
