@@ -138,6 +138,14 @@ std::vector<Case> cases(const fs::path& dir) {
                        "hold_tolerance = 0.5\n",
        {"system.area_fraction=0.3", "system.e=0.9", "system.tau_tc=1e-4", "output.stats_every=0.05",
         "output.png=false", "output.mp4=false"}},
+      // The medium's keys are read only with [medium].
+      {kEd + kRender + "[boundary.obstacle]\nD = 4.0\nx = 12.0\ny = 12.0\n[medium]\nnu = 0.7\nsound_speed = 1.5\n",
+       {"system.N=60", "system.U=0.5", "output.png=false", "output.mp4=false"}},
+      // The standing wave of the sound_speed study (phase.wave_vy): ≈ 1 period of harmonic 1.
+      {kEd + kRender + "[boundary.walls]\nkind = \"slip\"\n[[phase]]\nat = 1.0\nwave_vy = [0.3, 0.2]\n"
+                       "[study]\nkind = \"sound_speed\"\nfit_span = 18.0\nhenderson_tolerance = 10.0\n",
+       {"system.area_fraction=0.3", "boundary.periodic=[true, false]", "run.until=20.0", "output.stats_every=0.2",
+        "output.png=false", "output.mp4=false"}},
       {kDem + kRender, {"system.initial.kind=\"lattice\"", "output.particles=true", "output.fields=true", "render.color_by=\"group\"",
                         "render.layout=[2, 1]", "render.panels=[\"density\", \"temperature\"]",
                         "render.ranges.density=[0.0, 1.0]"}},

@@ -47,9 +47,9 @@ render::Rgb parse_colour(const std::string& hex) {
   return {byte(0), byte(1), byte(2)};
 }
 
-// The caption line under the panels: title, time, N, exposure, stream velocity, then the
-// engine's labels (the phase in effect).
-std::string caption(const std::string& title, double exposure, const render::Snapshot& s) {
+}  // namespace
+
+std::string frame_caption(const std::string& title, double exposure, const render::Snapshot& s) {
   char buf[256];
   const std::string unit = s.time_unit.empty() ? "" : " " + s.time_unit;
   std::snprintf(buf, sizeof buf, "t = %.4g%s   N = %zu   τ_E = %g%s", s.time, unit.c_str(), s.size(), exposure,
@@ -62,6 +62,8 @@ std::string caption(const std::string& title, double exposure, const render::Sna
   for (const auto& [k, v] : s.labels) text += "   " + k + " = " + v;
   return title.empty() ? text : title + "   " + text;
 }
+
+namespace {
 
 double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -117,7 +119,7 @@ public:
                                   : render::finite_range(s.attribute);
       range_fixed_ = true;
     }
-    s.caption = caption(title_, exposure_, s);
+    s.caption = frame_caption(title_, exposure_, s);
   }
   const render::Image& draw(const render::Snapshot& s) {
     if (fit_grid_) {

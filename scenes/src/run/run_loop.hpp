@@ -7,6 +7,7 @@
 #include <optional>
 #include <string>
 
+#include "render/snapshot.hpp"
 #include "scenes/src/scene/schema.hpp"
 
 namespace grainflow::scenes {
@@ -41,6 +42,10 @@ struct RunOptions {
 // Runs a validated scene. Returns the process status: 0 complete, 130 interrupted; throws
 // grainflow::Error when the run fails (run.json then says "failed").
 int run_scene(const Scene& scene, const RunOptions& options);
+
+// The caption line under the panels: title, time, N, exposure, stream velocity, then the
+// engine's labels (the phase in effect, Re and Ma of [medium]).
+std::string frame_caption(const std::string& title, double exposure, const render::Snapshot& s);
 
 // The `--set output.fps=N` that makes a fresh run's video last about output.video_seconds
 // (N = frames / video_seconds, 1..60), or nothing when the scene gives output.fps itself or

@@ -19,9 +19,10 @@ namespace grainflow::scenes {
 // Each study's row, defined in its own file in this folder.
 StudyEntry haff_cooling_study();
 StudyEntry thermostat_hold_study();
+StudyEntry sound_speed_study();
 
 std::span<const StudyEntry> studies() {
-  static const std::array<StudyEntry, 2> table = {haff_cooling_study(), thermostat_hold_study()};
+  static const std::array<StudyEntry, 3> table = {haff_cooling_study(), thermostat_hold_study(), sound_speed_study()};
   return table;
 }
 

@@ -69,6 +69,16 @@ inline constexpr Key<double> phase_e{"phase.e"};
 inline constexpr Key<double> phase_obstacle_r{"phase.obstacle_r"};
 inline constexpr Key<bool> phase_thermostat{"phase.thermostat"};
 inline constexpr Key<double> phase_thermostat_T{"phase.thermostat_T"};
+// A standing sound wave between the walls in y (seed 003 §4.2, the sound_speed study):
+// v_y += A1 sin(π y'/L') + A2 sin(2π y'/L') for every disk, y' = y − r and L' = Ly − 2r
+// the span its centre may reach; with it stats.csv gets the projections wave_vy1, wave_vy2.
+inline constexpr Key<std::array<double, 2>> phase_wave_vy{"phase.wave_vy"};
+
+// The fluid's measured transport numbers (agents/medium.cpp), optional: with a stream and
+// an obstacle the caption and run.json give Re = U D / nu and Ma = U / sound_speed.
+inline constexpr TableKey medium{"medium"};
+inline constexpr Key<double> medium_nu{"medium.nu"};
+inline constexpr Key<double> medium_sound_speed{"medium.sound_speed"};
 
 // The area fraction the scene asks for, from whichever of area_fraction, n or N it gives
 // (0 when none): the one conversion the cross-checks use.

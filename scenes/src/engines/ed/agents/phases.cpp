@@ -2,13 +2,17 @@
 // inelasticity is "turned on", with or without the thermostat): each [[phase]] gives its
 // start time `at` and the values that change then — the normal restitution e (system.e),
 // the obstacle's restitution (boundary.obstacle.r), the thermostat on or off and its
-// temperature (thermostat.T) —, applied by an ed::PhaseTimer exactly at `at`, between two
-// events, in the one run (one video, one stats.csv). Before the first phase the scene's
+// temperature (thermostat.T), a standing sound wave between the walls in y (wave_vy, §4.2:
+// the speed of sound from its frequency) —, applied by an ed::PhaseTimer exactly at `at`,
+// between two events, in the one run (one video, one stats.csv). Before the first phase the scene's
 // own values hold. The caption of every frame names the phase in effect and its values;
 // stats.csv gets the phase number and each value some phase changes, as they stand at the
 // end of each row's window.
 #include <algorithm>
+#include <array>
+#include <cmath>
 #include <cstdio>
+#include <numbers>
 #include <memory>
 #include <optional>
 #include <string>
@@ -58,6 +62,12 @@ void declare_keys(Schema& s) {
   p.add_float(phase_thermostat_T, 0.02, "thermostat.T from now on: the thermostat temperature", "m σ²/τ²")
       .above(0.0)
       .optional();
+  p.add_float_array(phase_wave_vy, {0.0, 0.0}, {"A1", "A2"},
+                    "a standing sound wave between the walls in y, once at `at`: every disk's v_y += A1 sin(π y'/L') + "
+                    "A2 sin(2π y'/L'), y' = y − r, L' = Ly − 2r (the span a centre reaches); stats.csv then gets "
+                    "wave_vy1, wave_vy2, the projections (2/N) Σ v_y sin(kπ y'/L') (the sound_speed study)",
+                    "σ/τ")
+      .optional();
 
   s.add_check([](const Scene& sc, SceneCheck& c) {
     const std::size_t n = sc.count(phase);
@@ -68,10 +78,19 @@ void declare_keys(Schema& s) {
                                         "increasing times", k, toml_float(t), k - 1, toml_float(sc.get(phase_at, k - 1))));
       const std::string base = "phase[" + std::to_string(k) + "].";
       const bool e = sc.has(base + "e"), r = sc.has(base + "obstacle_r"), on = sc.has(base + "thermostat"),
-                 T = sc.has(base + "thermostat_T");
-      if (!e && !r && !on && !T)
+                 T = sc.has(base + "thermostat_T"), wave = sc.has(base + "wave_vy");
+      if (!e && !r && !on && !T && !wave)
         c.fail(at(k, "at"), fmt::format("phase[{}] changes nothing; allowed: at least one of e, obstacle_r, thermostat, "
-                                        "thermostat_T", k));
+                                        "thermostat_T, wave_vy", k));
+      if (wave) {
+        const auto A = sc.get(phase_wave_vy, k);
+        if (A[0] == 0.0 && A[1] == 0.0)
+          c.fail(at(k, "wave_vy"), fmt::format("phase[{}].wave_vy = [0.0, 0.0] excites nothing; allowed: A1 or A2 ≠ 0", k));
+        // sin(kπ y'/L') vanishes at both walls: the standing wave of a closed channel.
+        if (sc.get(periodic)[1])
+          c.fail(at(k, "wave_vy"), fmt::format("phase[{}].wave_vy is a standing wave between walls in y; allowed: with "
+                                               "boundary.periodic = [_, false]", k));
+      }
       if (r && !sc.has(obstacle))
         c.fail(at(k, "obstacle_r"), "phase[" + std::to_string(k) + "].obstacle_r needs an obstacle; allowed: with "
                                     "[boundary.obstacle]");
@@ -93,7 +112,15 @@ struct Phase {
   std::string label;
   std::optional<double> e, obstacle_r, thermostat_T;
   std::optional<bool> thermostat;
+  std::optional<std::array<double, 2>> wave_vy;
 };
+
+// sin(kπ y'/L') of disk i at the current time, for k = 1, 2 (phase_wave_vy's profile).
+std::array<double, 2> wave_profile(const ed::SystemState& s, int i, double ly) {
+  const double r = s.disk[i].r;
+  const double u = std::numbers::pi * (s.position_now(i).y() - r) / (ly - 2.0 * r);
+  return {std::sin(u), std::sin(2.0 * u)};
+}
 
 class PhasesRun final : public EdAgentRun {
 public:
@@ -103,6 +130,7 @@ public:
       changes_e_ |= p.e.has_value();
       changes_r_ |= p.obstacle_r.has_value();
       changes_thermostat_ |= p.thermostat.has_value() || p.thermostat_T.has_value();
+      has_wave_ |= p.wave_vy.has_value();
     }
     std::vector<double> times;
     for (const Phase& p : phases_) times.push_back(p.at);
@@ -119,6 +147,11 @@ public:
       c.push_back({"thermostat_on", "1", "1 while the thermostat acts, 0 while a phase has switched it off" + at_end});
       c.push_back({"thermostat_T", "E", "the thermostat's temperature T_th (thermostat.T)" + at_end});
     }
+    if (has_wave_)
+      for (int k = 1; k <= 2; ++k)
+        c.push_back({"wave_vy" + std::to_string(k), "σ/τ",
+                     fmt::format("the standing wave's harmonic {0}: (2/N) Σ v_y sin({0}π y'/L') over the disks at the "
+                                 "row's time (y' = y − r, L' = Ly − 2r; phase.wave_vy)", k)});
     return c;
   }
   void stats_row(double, std::vector<double>& row) override {
@@ -128,6 +161,20 @@ public:
     if (changes_thermostat_) {
       row.push_back(thermostat_->active() ? 1.0 : 0.0);
       row.push_back(thermostat_->config().kT);
+    }
+    if (has_wave_) {
+      const auto& s = sim_.state();
+      const double ly = sim_.config().ly;
+      std::array<double, 2> sum{0.0, 0.0};
+      int n = 0;
+      for (int i = 0; i < s.size(); ++i) {
+        if (!s.present(i) || s.frozen(i)) continue;
+        const auto w = wave_profile(s, i, ly);
+        sum[0] += s.disk[i].vy * w[0];
+        sum[1] += s.disk[i].vy * w[1];
+        ++n;
+      }
+      for (double x : sum) row.push_back(n > 0 ? 2.0 * x / n : 0.0);
     }
   }
   void labels(std::vector<std::pair<std::string, std::string>>& out) const override {
@@ -154,6 +201,14 @@ private:
     if (p.obstacle_r) obstacle_->set_restitution(*p.obstacle_r);
     if (p.thermostat_T) thermostat_->set_temperature(*p.thermostat_T);
     if (p.thermostat) thermostat_->set_active(*p.thermostat, s);
+    if (p.wave_vy) {
+      const double ly = sim_.config().ly;
+      for (int i = 0; i < s.size(); ++i) {
+        if (!s.present(i) || s.frozen(i)) continue;
+        const auto w = wave_profile(s, i, ly);
+        s.set_velocity(i, s.disk[i].vx, s.disk[i].vy + (*p.wave_vy)[0] * w[0] + (*p.wave_vy)[1] * w[1]);
+      }
+    }
   }
 
   std::vector<Phase> phases_;
@@ -161,7 +216,7 @@ private:
   ed::CircularObstacle* obstacle_;  // owned by the simulation; nullptr: none
   ed::Thermostat* thermostat_;      // the same
   ed::PhaseTimer* timer_ = nullptr;
-  bool changes_e_ = false, changes_r_ = false, changes_thermostat_ = false;
+  bool changes_e_ = false, changes_r_ = false, changes_thermostat_ = false, has_wave_ = false;
 };
 
 std::unique_ptr<EdAgentRun> attach(const Scene& sc, ed::Simulation& sim) {
@@ -178,6 +233,7 @@ std::unique_ptr<EdAgentRun> attach(const Scene& sc, ed::Simulation& sim) {
     if (sc.has(base + "obstacle_r")) p.obstacle_r = sc.get(phase_obstacle_r, k);
     if (sc.has(base + "thermostat")) p.thermostat = sc.get(phase_thermostat, k);
     if (sc.has(base + "thermostat_T")) p.thermostat_T = sc.get(phase_thermostat_T, k);
+    if (sc.has(base + "wave_vy")) p.wave_vy = sc.get(phase_wave_vy, k);
     if (until && p.at >= *until)
       std::fprintf(stderr, "grainflow: note: phase[%zu] starts at t = %g, at or after run.until = %g: it will not "
                            "happen in this run\n", k, p.at, *until);
@@ -198,7 +254,8 @@ std::unique_ptr<EdAgentRun> attach(const Scene& sc, ed::Simulation& sim) {
 }  // namespace
 
 EdAgentEntry phases_agent() {
-  return {"phases", "phased runs: restitution, obstacle restitution, thermostat on/off and T at given times (ch. 5)",
+  return {"phases", "phased runs: restitution, obstacle restitution, thermostat on/off and T, a standing sound wave, at given "
+          "times (ch. 5, §4.2)",
           &declare_keys, &attach};
 }
 
