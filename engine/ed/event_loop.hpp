@@ -203,6 +203,7 @@ private:
     const CollisionImpulse J = collision_impulse(rx, ry, a.vx - b.vx, a.vy - b.vy, a.r, b.r,
                                                  a.w, b.w, m1, m2, *rule);
     const double k0 = 0.5 * (m1 * (a.vx * a.vx + a.vy * a.vy) + m2 * (b.vx * b.vx + b.vy * b.vy));
+    const double avx = a.vx, avy = a.vy, bvx = b.vx, bvy = b.vy;  // for the kinetic tensor
     a.vx += J.jx / m1;
     a.vy += J.jy / m1;
     b.vx -= J.jx / m2;
@@ -217,7 +218,9 @@ private:
                     s_.inertia(j) * (b.w * b.w - w2 * w2));
     }
     s_.add_kinetic(k1 - k0, drot, 0.0, 0.0);
-    s_.stats.virial += rx * J.jx + ry * J.jy;
+    s_.add_kinetic_tensor(m1, avx, avy, a.vx, a.vy);
+    s_.add_kinetic_tensor(m2, bvx, bvy, b.vx, b.vy);
+    s_.add_virial(rx, ry, J.jx, J.jy);
     ++s_.stats.collisions;
     if (J.sliding) ++s_.stats.sliding;
     ++s_.counter[i];
@@ -414,6 +417,7 @@ private:
       const CollisionImpulse J = collision_impulse_heavy(rx, ry, a.vx - b.vx, a.vy - b.vy, a.r, b.r, a.w,
                                                          b.w, m, *rule);
       const double k0 = 0.5 * m * (a.vx * a.vx + a.vy * a.vy);
+      const double avx = a.vx, avy = a.vy;  // for the kinetic tensor
       a.vx += J.jx / m;
       a.vy += J.jy / m;
       const double k1 = 0.5 * m * (a.vx * a.vx + a.vy * a.vy);
@@ -424,7 +428,8 @@ private:
         drot = 0.5 * s_.inertia(i) * (a.w * a.w - w1 * w1);
       }
       s_.add_kinetic(k1 - k0, drot, J.jx, J.jy);  // the frozen disk absorbs −J
-      s_.stats.virial += rx * J.jx + ry * J.jy;
+      s_.add_kinetic_tensor(m, avx, avy, a.vx, a.vy);
+      s_.add_virial(rx, ry, J.jx, J.jy);
       ++s_.stats.collisions;
       if (J.sliding) ++s_.stats.sliding;
       ++s_.counter[i];

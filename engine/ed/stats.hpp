@@ -25,6 +25,13 @@ struct Stats {
   std::uint64_t collisions0 = 0;     // value of `collisions` at t0
   double kT_integral = 0.0;          // ∫ kT dt over [t0, now]
   double virial = 0.0;               // Σ_collisions r_ij · Δp_i (Δp_i: impulse on i)
+  // The same as tensors (xx, xy, yy), for the pressure tensor: ∫ Σ m (v − V)_a (v − V)_b dt
+  // (V the mass-averaged velocity, as kT), and Σ_collisions r_ij,a Δp_i,b, its xy part
+  // symmetrised, (r_x Δp_y + r_y Δp_x)/2 (a rough collision's tangential impulse makes
+  // the unsymmetrised sum unequal in xy and yx). Half their traces are kT_integral·N and
+  // virial/2: the scalar pressure is half the tensor's trace.
+  double kinetic_integral_xx = 0.0, kinetic_integral_xy = 0.0, kinetic_integral_yy = 0.0;
+  double virial_xx = 0.0, virial_xy = 0.0, virial_yy = 0.0;
 };
 
 // Observables derived from Stats over the measurement window (see simulation.hpp).
@@ -36,6 +43,10 @@ struct Observables {
   // Tildesley 1987 §3.7 with d = 2): P = [N <kT> + (1/(2t)) Σ_coll r_ij · Δp_i] / A,
   // r_ij = r_i − r_j at contact, Δp_i the impulse on i; the sum is positive.
   double pressure = 0.0;
+  // Pressure tensor over the same window, disks and area: P_ab = [<Σ m (v − V)_a (v − V)_b>
+  // + (1/t) Σ_coll r_ij,a Δp_i,b] / A (Irving & Kirkwood 1950; Allen & Tildesley 1987
+  // §2.4); (P_xx + P_yy)/2 = pressure.
+  double pressure_xx = 0.0, pressure_xy = 0.0, pressure_yy = 0.0;
   double compressibility = 0.0; // Z = P A / (N kT)
   // Mean time between two collisions of the same disk: each collision involves two disks,
   // so τ = t N / (2 C) over a window of length t with C collisions.

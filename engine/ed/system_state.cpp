@@ -32,6 +32,7 @@ void SystemState::set_velocity(int i, double vx, double vy, double w) {
   rot_ += 0.5 * inertia(i) * (w * w - d.w * d.w);
   px_ += m * (vx - d.vx);
   py_ += m * (vy - d.vy);
+  add_kinetic_tensor(m, d.vx, d.vy, vx, vy);
   d.vx = vx;
   d.vy = vy;
   d.w = w;
@@ -41,10 +42,12 @@ void SystemState::set_velocity(int i, double vx, double vy, double w) {
 
 void SystemState::recompute_books() {
   kin_ = rot_ = px_ = py_ = mtot_ = 0.0;
+  kxx_ = kxy_ = kyy_ = 0.0;
   for (int i = 0; i < size(); ++i) {
     if (slot[i] != SlotState::present) continue;
     const Disk& d = disk[i];
     kin_ += 0.5 * d.m * (d.vx * d.vx + d.vy * d.vy);
+    add_kinetic_tensor(d.m, 0.0, 0.0, d.vx, d.vy);
     rot_ += 0.5 * inertia(i) * d.w * d.w;
     px_ += d.m * d.vx;
     py_ += d.m * d.vy;
@@ -62,6 +65,10 @@ Observables SystemState::observables() const {
     // 2D collision virial (Allen & Tildesley 1987, §3.7; Alder & Wainwright 1960):
     // P A = N <kT> + (1/(2 t)) Σ_collisions r_ij · Δp_i.
     o.pressure = (n * o.kT + stats.virial / (2.0 * o.duration)) / area();
+    const double t = o.duration, a = area();
+    o.pressure_xx = (stats.kinetic_integral_xx + stats.virial_xx) / t / a;
+    o.pressure_xy = (stats.kinetic_integral_xy + stats.virial_xy) / t / a;
+    o.pressure_yy = (stats.kinetic_integral_yy + stats.virial_yy) / t / a;
     o.compressibility = o.kT > 0.0 ? o.pressure * area() / (n * o.kT) : 0.0;
     o.collision_rate = 2.0 * static_cast<double>(o.collisions) / (n * o.duration);
     o.mean_free_time = o.collisions ? 1.0 / o.collision_rate : kNever;
@@ -84,6 +91,7 @@ void SystemState::add_books(int i, double sign) {
   const Disk& d = disk[i];
   const double m = d.m;
   kin_ += sign * 0.5 * m * (d.vx * d.vx + d.vy * d.vy);
+  add_kinetic_tensor(sign * m, 0.0, 0.0, d.vx, d.vy);
   rot_ += sign * 0.5 * inertia(i) * d.w * d.w;
   px_ += sign * m * d.vx;
   py_ += sign * m * d.vy;
@@ -213,7 +221,7 @@ struct PackedEvent {
 static_assert(sizeof(PackedEvent) == 32 && std::is_trivially_copyable_v<PackedEvent>);
 // Written as raw bytes, so they must have no padding (a new field: check, then update).
 static_assert(sizeof(Disk) == 8 * sizeof(double));
-static_assert(sizeof(Stats) == 15 * 8, "Stats is written as raw bytes: a new field must not add padding");
+static_assert(sizeof(Stats) == 21 * 8, "Stats is written as raw bytes: a new field must not add padding");
 static_assert(sizeof(SystemState::Removal) == 2 * sizeof(int));
 static_assert(sizeof(OverlapRemoval) == 5 * 8 && std::is_trivially_copyable_v<OverlapRemoval>);
 
@@ -238,6 +246,9 @@ void SystemState::save(io::ArchiveWriter& w) const {
   w.pod(px_);
   w.pod(py_);
   w.pod(mtot_);
+  w.pod(kxx_);
+  w.pod(kxy_);
+  w.pod(kyy_);
   w.pod(dmin_);
   w.pod(dmax_);
   w.pod(static_cast<std::int32_t>(n_present_));
@@ -288,6 +299,9 @@ SystemState::Saved SystemState::read_saved(io::ArchiveReader& r) const {
   r.pod(s.px);
   r.pod(s.py);
   r.pod(s.mtot);
+  r.pod(s.kxx);
+  r.pod(s.kxy);
+  r.pod(s.kyy);
   r.pod(s.dmin);
   r.pod(s.dmax);
   s.n_present = r.get<std::int32_t>();
@@ -416,6 +430,9 @@ void SystemState::restore(Saved&& s) noexcept {
   px_ = s.px;
   py_ = s.py;
   mtot_ = s.mtot;
+  kxx_ = s.kxx;
+  kxy_ = s.kxy;
+  kyy_ = s.kyy;
   dmin_ = s.dmin;
   dmax_ = s.dmax;
   n_present_ = s.n_present;

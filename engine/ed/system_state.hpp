@@ -3,6 +3,7 @@
 // (DynamO style), the cell map (§2.2), the collision rule (§3.4) and the energy books.
 #pragma once
 #include <cstddef>
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <vector>
@@ -213,6 +214,21 @@ public:
     const int n = mobile_count();
     return n ? (kin_ - 0.5 * (px_ * px_ + py_ * py_) / mtot_) / n : 0.0;
   }
+  // Σ m v_a v_b (xx, xy, yy; lab frame) over the mobile disks, kept beside kinetic().
+  std::array<double, 3> kinetic_tensor() const { return {kxx_, kxy_, kyy_}; }
+  // The tensor book's change when a mobile disk of mass m goes from (vx0, vy0) to (vx1, vy1).
+  void add_kinetic_tensor(double m, double vx0, double vy0, double vx1, double vy1) {
+    kxx_ += m * (vx1 * vx1 - vx0 * vx0);
+    kxy_ += m * (vx1 * vy1 - vx0 * vy0);
+    kyy_ += m * (vy1 * vy1 - vy0 * vy0);
+  }
+  // A collision's virial, scalar and tensor (Stats::virial, virial_xx/xy/yy).
+  void add_virial(double rx, double ry, double jx, double jy) {
+    stats.virial += rx * jx + ry * jy;
+    stats.virial_xx += rx * jx;
+    stats.virial_xy += 0.5 * (rx * jy + ry * jx);
+    stats.virial_yy += ry * jy;
+  }
   void add_kinetic(double dk, double drot, double dpx, double dpy) {
     kin_ += dk;
     rot_ += drot;
@@ -223,7 +239,14 @@ public:
   // Moves the clock forward, integrating kT over the interval (measurement window).
   void advance_clock(double t) {
     if (t > now_) {
-      stats.kT_integral += kT() * (t - now_);
+      const double dt = t - now_;
+      stats.kT_integral += kT() * dt;
+      // The peculiar tensor Σ m v_a v_b − P_a P_b / M (as kT, whose N-fold it halves in trace).
+      if (mtot_ > 0.0 && mobile_count() > 0) {
+        stats.kinetic_integral_xx += (kxx_ - px_ * px_ / mtot_) * dt;
+        stats.kinetic_integral_xy += (kxy_ - px_ * py_ / mtot_) * dt;
+        stats.kinetic_integral_yy += (kyy_ - py_ * py_ / mtot_) * dt;
+      }
       now_ = t;
     }
   }
@@ -232,6 +255,8 @@ public:
     stats.collisions0 = stats.collisions;
     stats.kT_integral = 0.0;
     stats.virial = 0.0;
+    stats.kinetic_integral_xx = stats.kinetic_integral_xy = stats.kinetic_integral_yy = 0.0;
+    stats.virial_xx = stats.virial_xy = stats.virial_yy = 0.0;
   }
   Observables observables() const;
 
@@ -264,6 +289,7 @@ public:
   // collision rule, agents and their cell lists, which the identical construction rebuilds.
   struct Saved {
     double now = 0.0, kin = 0.0, rot = 0.0, px = 0.0, py = 0.0, mtot = 0.0, dmin = 0.0, dmax = 0.0;
+    double kxx = 0.0, kxy = 0.0, kyy = 0.0;
     int n_present = 0, n_frozen = 0;
     bool grown = false, events_ready = false;
     HugeVector<Disk> disk;
@@ -298,6 +324,7 @@ private:
 
   double now_ = 0.0;
   double kin_ = 0.0, rot_ = 0.0, px_ = 0.0, py_ = 0.0, mtot_ = 0.0;
+  double kxx_ = 0.0, kxy_ = 0.0, kyy_ = 0.0;  // kinetic_tensor()
   int n_present_ = 0, n_frozen_ = 0;
   double dmin_ = 0.0, dmax_ = kNever;
   std::int64_t next_tag_ = 1;  // the id the next disk added gets

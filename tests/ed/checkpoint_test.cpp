@@ -112,9 +112,13 @@ void expect_same_run(const ed::Simulation& a, const ed::Simulation& b, bool with
   EXPECT_EQ(bits(x.t0), bits(y.t0));
   EXPECT_EQ(x.collisions0, y.collisions0);
   EXPECT_EQ(bits(x.virial), bits(y.virial));
+  for (auto m : {&ed::Stats::virial_xx, &ed::Stats::virial_xy, &ed::Stats::virial_yy}) EXPECT_EQ(bits(x.*m), bits(y.*m));
   if (with_kT_integral) {
     EXPECT_EQ(bits(x.kT_integral), bits(y.kT_integral));
+    for (auto m : {&ed::Stats::kinetic_integral_xx, &ed::Stats::kinetic_integral_xy, &ed::Stats::kinetic_integral_yy})
+      EXPECT_EQ(bits(x.*m), bits(y.*m));
   }
+  for (int k = 0; k < 3; ++k) EXPECT_EQ(bits(a.state().kinetic_tensor()[k]), bits(b.state().kinetic_tensor()[k]));
   EXPECT_EQ(bits(a.kinetic_energy()), bits(b.kinetic_energy()));
   EXPECT_EQ(bits(a.state().kinetic()), bits(b.state().kinetic()));
   EXPECT_EQ(bits(a.state().rotational()), bits(b.state().rotational()));

@@ -161,3 +161,40 @@ TEST(EdConservation, InelasticRoughBoxCoolsAndKeepsBooks) {
   EXPECT_LT(sim.stats().sliding, sim.stats().collisions);
   EXPECT_NEAR((sim.state().kinetic() + sim.state().rotational()) / sim.kinetic_energy(), 1.0, 1e-9);
 }
+
+TEST(EdPressureTensor, TwoDiskCollisionGivesTheExactVirialTensor) {
+  // Disks at (5, 5) and (7, 7), velocities ±(1, 1), σ = m = 1, elastic and smooth: they
+  // meet head on along the diagonal at t = (2√2 − 1)/(2√2) and swap velocities. At contact
+  // r_12 = −(1, 1)/√2, Δp_1 = −2 (1, 1): every component of r_a Δp_b is √2. Σ m v_a v_b is 2
+  // in every component before and after (total momentum 0). Over [0, t]:
+  // P_ab = (2 t + √2) / (t A) for ab = xx, xy, yy.
+  ed::Config c;
+  c.lx = c.ly = 20.0;
+  std::vector<ed::DiskInit> d(2);
+  d[0].r = {5.0, 5.0};
+  d[0].v = {1.0, 1.0};
+  d[1].r = {7.0, 7.0};
+  d[1].v = {-1.0, -1.0};
+  ed::Simulation sim(c, d);
+  const double t = 2.0, area = c.lx * c.ly;
+  sim.run_until(t);
+  ASSERT_EQ(sim.stats().collisions, 1u);
+  const ed::Observables o = sim.observables();
+  const double expected = (2.0 * t + std::sqrt(2.0)) / (t * area);
+  EXPECT_NEAR(o.pressure_xx, expected, 1e-14);
+  EXPECT_NEAR(o.pressure_xy, expected, 1e-14);
+  EXPECT_NEAR(o.pressure_yy, expected, 1e-14);
+  EXPECT_NEAR(0.5 * (o.pressure_xx + o.pressure_yy), o.pressure, 1e-14);
+}
+
+TEST(EdPressureTensor, EquilibriumBoxIsIsotropicAndHalfTheTraceIsThePressure) {
+  // Elastic periodic box, η = 0.5: P_xx ≈ P_yy ≈ P, P_xy ≈ 0 within noise, and
+  // (P_xx + P_yy)/2 = pressure to round-off (the same window, disks and area).
+  const auto o = equilibrium(0.50, 1.0, 40.0, 40.0, 120.0, 5);
+  std::printf("eta 0.50: P %.5f, P_xx %.5f, P_yy %.5f, P_xy %+.5f\n", o.pressure, o.pressure_xx, o.pressure_yy,
+              o.pressure_xy);
+  EXPECT_NEAR(0.5 * (o.pressure_xx + o.pressure_yy) / o.pressure, 1.0, 1e-12);
+  EXPECT_NEAR(o.pressure_xx / o.pressure, 1.0, 0.02);
+  EXPECT_NEAR(o.pressure_yy / o.pressure, 1.0, 0.02);
+  EXPECT_LT(std::abs(o.pressure_xy) / o.pressure, 0.01);
+}

@@ -268,6 +268,13 @@ public:
         {"pressure", "E/σ²",
          "collision-virial pressure over the stats window: [N_mobile <kT> + Σ_coll r_ij·Δp_i / (2 t)] / A, A = the "
          "box area Lx·Ly (obstacle included), t the window length (Alder & Wainwright 1960)"},
+        {"P_xx", "E/σ²",
+         "pressure tensor xx over the stats window: [<Σ m (v_x − V_x)²> + Σ_coll r_ij,x Δp_i,x / t] / A (the disks, V "
+         "and A of kT and pressure; (P_xx + P_yy)/2 = pressure)"},
+        {"P_xy", "E/σ²",
+         "pressure tensor xy over the stats window: [<Σ m (v_x − V_x)(v_y − V_y)> + Σ_coll (r_x Δp_y + r_y Δp_x) / (2 "
+         "t)] / A (symmetrised; for a Couette flow along x between walls normal to y, −P_xy is the shear stress)"},
+        {"P_yy", "E/σ²", "pressure tensor yy over the stats window: [<Σ m (v_y − V_y)²> + Σ_coll r_ij,y Δp_i,y / t] / A"},
         {"mean_free_time", "τ", "mean time between two collisions of one disk over the window: t N_mobile / (2 C)"},
         {"momentum_x", "m σ/τ", "Σ m v_x over the disks now"},
         {"momentum_y", "m σ/τ", "Σ m v_y over the disks now"}};
@@ -291,7 +298,7 @@ public:
     const double kinetic = sim_.kinetic_energy();
     require_finite(kinetic);
     std::vector<double> row = {double(sim_.stats().collisions), double(sim_.stats().events), double(sim_.count()),
-                               kinetic, o.kT, o.pressure, o.mean_free_time, p.x(), p.y()};
+                               kinetic, o.kT, o.pressure, o.pressure_xx, o.pressure_xy, o.pressure_yy, o.mean_free_time, p.x(), p.y()};
     for (const auto& a : agents_) a->stats_row(o.duration, row);
     // N: disks present; inserted/removed: disks that entered/left through open stream
     // boundaries since the start; N_frozen: of N, those frozen by the filter (§3.3).
