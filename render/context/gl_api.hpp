@@ -80,7 +80,6 @@ namespace grainflow::render {
   X(PFNGLUNIFORM2FPROC, Uniform2f)                                     \
   X(PFNGLUNIFORM3FPROC, Uniform3f)                                     \
   X(PFNGLUNIFORM4FPROC, Uniform4f)                                     \
-  X(PFNGLUNIFORM3FVPROC, Uniform3fv)                                   \
   X(PFNGLUNIFORMMATRIX4FVPROC, UniformMatrix4fv)                       \
   X(PFNGLLINEWIDTHPROC, LineWidth)
 

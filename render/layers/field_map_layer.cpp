@@ -1,7 +1,6 @@
 #include "render/layers/field_map_layer.hpp"
 
 #include <algorithm>
-#include <array>
 #include <cmath>
 #include <string>
 
@@ -100,7 +99,7 @@ void FieldMapLayer::bind_colormap(const Colormap& colormap) {
 }
 
 void FieldMapLayer::draw_texels(const ViewTransform& view, int nx, int ny, const Eigen::Vector2d& lo,
-                                const Eigen::Vector2d& hi, bool bilinear, const std::vector<SolidCircle>& solids) {
+                                const Eigen::Vector2d& hi, bool bilinear) {
   gl_.ActiveTexture(GL_TEXTURE0);
   gl_.BindTexture(GL_TEXTURE_2D, field_texture_.id());
   gl_.PixelStorei(GL_UNPACK_ALIGNMENT, 4);
@@ -117,15 +116,6 @@ void FieldMapLayer::draw_texels(const ViewTransform& view, int nx, int ny, const
   gl_.Uniform2f(program_.uniform("u_hi"), float(hi.x()), float(hi.y()));
   const Rgb nan = Colormap::kNanColour;
   gl_.Uniform3f(program_.uniform("u_nan_colour"), nan.r, nan.g, nan.b);
-  const int n_solids = std::min(int(solids.size()), kMaxSolids);
-  std::array<float, 3 * kMaxSolids> circles{};
-  for (int i = 0; i < n_solids; ++i) {
-    circles[3 * i] = float(solids[i].centre.x());
-    circles[3 * i + 1] = float(solids[i].centre.y());
-    circles[3 * i + 2] = float(solids[i].radius);
-  }
-  gl_.Uniform1i(program_.uniform("u_n_solids"), n_solids);
-  gl_.Uniform3fv(program_.uniform("u_solids"), kMaxSolids, circles.data());
   const Mat4 vp = view.view_proj();
   gl_.UniformMatrix4fv(program_.uniform("u_view_proj"), 1, GL_FALSE, vp.data());
   gl_.Disable(GL_BLEND);
@@ -136,7 +126,7 @@ void FieldMapLayer::draw_texels(const ViewTransform& view, int nx, int ny, const
 }
 
 void FieldMapLayer::draw(const ViewTransform& view, const core::ScalarField& field, std::pair<double, double> range,
-                         const Colormap& colormap, FieldFilter filter, const std::vector<SolidCircle>& solids) {
+                         const Colormap& colormap, FieldFilter filter) {
   const auto& g = field.grid;
   if (g.nx < 1 || g.ny < 1 || field.values.size() != g.size()) return;
   const double lo = range.first, span = range.second - range.first;
@@ -150,7 +140,7 @@ void FieldMapLayer::draw(const ViewTransform& view, const core::ScalarField& fie
     texels_[2 * i + 1] = ok ? 1.0f : 0.0f;
   }
   bind_colormap(colormap);
-  draw_texels(view, g.nx, g.ny, g.lo, g.hi, filter == FieldFilter::bilinear, solids);
+  draw_texels(view, g.nx, g.ny, g.lo, g.hi, filter == FieldFilter::bilinear);
 }
 
 void FieldMapLayer::draw_gradient(const ViewTransform& view, const Eigen::Vector2d& lo, const Eigen::Vector2d& hi,

@@ -14,7 +14,6 @@
 #include "render/layers/camera.hpp"
 #include "render/layers/colormap.hpp"
 #include "render/layers/gl_buffer.hpp"
-#include "render/layers/streamlines.hpp"
 
 namespace grainflow::render {
 
@@ -48,14 +47,8 @@ public:
   explicit FieldMapLayer(const GlApi& gl);
 
   // Draws `field` over its grid rectangle; value v maps to t = (v − lo)/(hi − lo), clamped.
-  // Smooth (bilinear) maps are drawn up to the edge of the `solids` (the obstacle): a
-  // masked bin (its centre in the solid) that pokes out of it takes its valid neighbours'
-  // colour outside the circle, and only the circle itself gets the neutral colour — no
-  // square teeth around a round obstacle. At most kMaxSolids circles are honoured.
   void draw(const ViewTransform& view, const core::ScalarField& field, std::pair<double, double> range,
-            const Colormap& colormap, FieldFilter filter = FieldFilter::nearest,
-            const std::vector<SolidCircle>& solids = {});
-  static constexpr int kMaxSolids = 8;
+            const Colormap& colormap, FieldFilter filter = FieldFilter::nearest);
   // A colour-bar strip: the whole map from t = 0 at lo.y to t = 1 at hi.y (world units of
   // `view`), smooth.
   void draw_gradient(const ViewTransform& view, const Eigen::Vector2d& lo, const Eigen::Vector2d& hi,
@@ -64,7 +57,7 @@ public:
 private:
   void bind_colormap(const Colormap& colormap);
   void draw_texels(const ViewTransform& view, int nx, int ny, const Eigen::Vector2d& lo, const Eigen::Vector2d& hi,
-                   bool bilinear, const std::vector<SolidCircle>& solids = {});
+                   bool bilinear);
 
   const GlApi& gl_;
   ShaderProgram program_;
