@@ -197,6 +197,11 @@ void PanelRenderer::draw(FrameRenderer& frame, const Snapshot& s, const FrameSty
     std::optional<PendingBar> bar;
     std::optional<PendingLegend> legend;
     std::string missing;
+    // A map panel without its field yet: the geometry alone, and what to say instead.
+    auto no_field = [&](const std::string& field) {
+      frame.draw_geometry(*planar_geometry, style, view, plot.w, plot.h, true);
+      return s.fields_pending.empty() ? "no " + field + " field" : s.fields_pending;
+    };
 
     switch (spec.kind) {
       case PanelKind::particles: {
@@ -222,8 +227,7 @@ void PanelRenderer::draw(FrameRenderer& frame, const Snapshot& s, const FrameSty
           label = "|<v>|";  // the speed of the mean velocity, not the mean speed <|v|>
         }
         if (!f) {
-          missing = s.fields_pending.empty() ? "no " + spec.field + " field" : s.fields_pending;
-          frame.draw_geometry(*planar_geometry, style, view, plot.w, plot.h, true);
+          missing = no_field(spec.field);
           break;
         }
         const auto range = resolve_range(*f, spec.range);
@@ -237,8 +241,7 @@ void PanelRenderer::draw(FrameRenderer& frame, const Snapshot& s, const FrameSty
       case PanelKind::streamlines:
       case PanelKind::velocity: {
         if (!s.velocity) {
-          missing = s.fields_pending.empty() ? "no velocity field" : s.fields_pending;
-          frame.draw_geometry(*planar_geometry, style, view, plot.w, plot.h, true);
+          missing = no_field("velocity");
           break;
         }
         const bool relative = spec.streamlines.relative_to_reference && s.reference_velocity;
