@@ -74,8 +74,9 @@ bins = [20, 20]
 TEST(EdFields, BinsAlongAHardWallAreNotDepleted) {
   // Hard walls across y (not periodic): centres keep σ/2 off them, so the bins of the rows
   // along them have 12 % less room than the others and, divided by the whole bin, read
-  // 12 % low. Divided by their open part they read like the middle (or a little high: the
-  // contact layer at a wall).
+  // 12 % low (7 of the 8 sub-sample rows of a wall bin are open: 0.875). Divided by their
+  // open part they read higher than the middle, by the contact layer at a wall (≈ 1.1 at
+  // η = 0.5, as at the obstacle); counted over the whole bin they would read ≈ 0.97.
   const Scene sc = parse_scene(R"([run]
 engine = "ed"
 until = 300.0
@@ -103,7 +104,7 @@ bins = [10, 10]
   }
   wall /= 2 * f.grid.nx;
   middle /= (f.grid.ny - 6) * f.grid.nx;
-  EXPECT_GT(wall / middle, 0.97) << "wall rows " << wall << ", middle " << middle;
+  EXPECT_GT(wall / middle, 1.0) << "wall rows " << wall << ", middle " << middle;
   EXPECT_LT(wall / middle, 1.2) << "wall rows " << wall << ", middle " << middle;
   std::printf("  wall rows / middle rows: %.3f\n", wall / middle);
 }
