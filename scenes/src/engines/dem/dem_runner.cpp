@@ -1,7 +1,8 @@
 // `grainflow run` adapter of the 3D DEM engine (engine/dem): its keys (dem_keys.hpp) →
 // dem::Config (SI units), frames of spheres coloured by the attributes of
-// kSphereAttributes, stats rows of energies, contacts and wall forces, optionally pair.csv
-// (the force–separation record of particles 1 and 2, seed 000 §5.4), and the table row.
+// kSphereAttributes, stats rows of energies, contacts, wall forces and the pressure tensor,
+// optionally pair.csv (the force–separation record of particles 1 and 2, seed 000 §5.4),
+// and the table row.
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -401,7 +402,27 @@ public:
             {"contacts", "1", "particle–particle pairs with overlap > 0"},
             {"coordination", "1", "mean contacts per particle, 2 contacts / N"},
             {"wall_force_bottom_z", "N", "z component of the force the particles exert on the z-lo wall"},
-            {"neighbour_builds", "1", "Verlet neighbour list rebuilds since the start"}};
+            {"neighbour_builds", "1", "Verlet neighbour list rebuilds since the start"},
+            {"pressure", "Pa",
+             "instantaneous (the row's step, no window) pressure (P_xx + P_yy + P_zz)/3 of the pressure tensor below"},
+            {"P_xx", "Pa",
+             "pressure tensor xx at the row's step: [Σ m (v_x − V_x)² + W_xx] / vol; v the full-step velocities, V the "
+             "mass-averaged velocity, vol = lx·ly·lz the box volume; W the contact virial Σ_pairs r_ij,x F_ij,x (r_ij = x_i − "
+             "x_j across the periodic image the force acts through, F_ij the force on i) + Σ_wall contacts r_x F_x (r = "
+             "the centre minus its foot on the wall: the Love–Weber stress of all particles, wall-bound ones included); "
+             "gravity adds nothing (it acts at the centres, as LAMMPS's fix gravity adds no virial)"},
+            {"P_yy", "Pa", "pressure tensor yy at the row's step: [Σ m (v_y − V_y)² + W_yy] / vol (as P_xx)"},
+            {"P_zz", "Pa", "pressure tensor zz at the row's step: [Σ m (v_z − V_z)² + W_zz] / vol (as P_xx)"},
+            {"P_xy", "Pa",
+             "pressure tensor xy at the row's step: [Σ m (v_x − V_x)(v_y − V_y) + Σ (r_x F_y + r_y F_x)/2] / vol "
+             "(symmetrised; the contacts of P_xx; LAMMPS's compute pressure reports Σ r_x F_y, which differs by half the "
+             "net contact torque, zero for frictionless contacts and at rest)"},
+            {"P_xz", "Pa",
+             "pressure tensor xz at the row's step: [Σ m (v_x − V_x)(v_z − V_z) + Σ (r_x F_z + r_z F_x)/2] / vol "
+             "(symmetrised; for a Couette flow along x between walls normal to z, −P_xz is the shear stress)"},
+            {"P_yz", "Pa",
+             "pressure tensor yz at the row's step: [Σ m (v_y − V_y)(v_z − V_z) + Σ (r_y F_z + r_z F_y)/2] / vol "
+             "(symmetrised)"}};
   }
   void check_finite() const override { require_finite(sim_.stats()); }
 
@@ -410,7 +431,8 @@ public:
     require_finite(st);
     return {double(st.step),        double(sim_.size()), st.kinetic,           st.rotational,
             st.potential_gravity,   double(st.contacts), st.coordination,      st.wall_force[4].z(),
-            double(st.neighbor_builds)};
+            double(st.neighbor_builds), st.pressure,          st.pressure_tensor[0], st.pressure_tensor[1],
+            st.pressure_tensor[2],      st.pressure_tensor[3], st.pressure_tensor[4], st.pressure_tensor[5]};
   }
 
   double work() const override { return double(sim_.steps()) * double(sim_.size()); }
