@@ -1,6 +1,7 @@
 // The 3D soft-sphere DEM engine (seed 000 ch. 2–5): Walton / Hooke contacts with history,
 // leap-frog integration (Eq. 2.19), Verlet table built by chain cells, box walls or
-// periodic axes, two particle groups, van der Waals cohesion.
+// periodic axes, two particle groups, van der Waals cohesion; the pressure tensor of the
+// motion and the contact virial (Stats).
 // UNITS: SI throughout — metres, kilograms, seconds, newtons, joules, radians per second.
 #pragma once
 #include <array>
