@@ -1,11 +1,17 @@
 // The DEM pressure tensor (Stats::pressure_tensor): the contact virial of a pair against
 // r ⊗ F of the forces the engine applied (inside the box and across a periodic boundary),
 // the wall contacts' share, an ideal gas (kinetic part only, about the mean velocity),
-// a settled column (W_zz = Σ m g z), thread-count independence and checkpoints.
+// a settled column (W_zz = Σ m g z), thread-count independence, checkpoints, and LAMMPS's
+// compute pressure of a dense periodic run (tests/data/dem/lammps_pressure).
 #include <gtest/gtest.h>
 
 #include <array>
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+#include <string>
 #include <numbers>
 #include <vector>
 
@@ -320,4 +326,88 @@ TEST(DemPressure, SurvivesACheckpointAndDoesNotPerturbTheRun) {
   EXPECT_EQ(r.particles().x, ref.particles().x);
   for (int a = 0; a < 6; ++a) EXPECT_EQ(r.stats().pressure_tensor[a], ref.stats().pressure_tensor[a]) << a;
   EXPECT_GT(before.virial_walls[2], 0.0);
+}
+
+namespace {
+// tests/data/dem/lammps_pressure/packing.data (atom_style sphere: id type diameter density
+// x y z; Velocities: id vx vy vz ωx ωy ωz), read into a frictionless Hooke configuration
+// with the LAMMPS input's coefficients.
+Config lammps_packing() {
+  std::ifstream in(std::string(GRAINFLOW_TEST_DATA) + "/dem/lammps_pressure/packing.data");
+  Config c;
+  c.box.periodic = {true, true, true};
+  c.gravity = Vec3::Zero();
+  c.model = {NormalKind::Hooke, TangentialKind::None, CohesionKind::None};
+  GroupConfig g;
+  g.radius = 0.5e-3;
+  g.density = 2500.0;
+  g.contact.k1 = 100.0;
+  g.contact.gamma_n = 828.628;
+  c.groups = {g};
+  c.dt = 5e-6;
+  std::string line, section;
+  while (std::getline(in, line)) {
+    std::istringstream s(line);
+    double lo = 0, hi = 0;
+    std::string a, b;
+    if (line.find("lo ") != std::string::npos && (s >> lo >> hi >> a >> b)) {
+      const int axis = a[0] - 'x';
+      c.box.lo[axis] = lo;
+      c.box.hi[axis] = hi;
+      continue;
+    }
+    if (line.rfind("Atoms", 0) == 0 || line.rfind("Velocities", 0) == 0) {
+      section = line.substr(0, 5);
+      continue;
+    }
+    std::size_t id = 0;
+    if (!(s >> id) || id == 0) continue;
+    if (c.particles.size() < id) c.particles.resize(id);
+    ParticleInit& p = c.particles[id - 1];
+    if (section == "Atoms") {
+      int type = 0;
+      double diameter = 0, density = 0;
+      s >> type >> diameter >> density >> p.x.x() >> p.x.y() >> p.x.z();
+      p.radius = 0.5 * diameter;
+    } else if (section == "Veloc") {
+      s >> p.v.x() >> p.v.y() >> p.v.z() >> p.omega.x() >> p.omega.y() >> p.omega.z();
+    }
+  }
+  return c;
+}
+}  // namespace
+
+TEST(DemPressure, DensePeriodicPackingMatchesLammpsComputePressure) {
+  // LAMMPS's compute pressure of the same run (in.pressure, README.md there): 216 spheres
+  // in a periodic cube, frictionless gran/hooke/history, every contact across the cube's
+  // faces included; the pressure tensor every 100 steps at %.17g.
+  const Config c = lammps_packing();
+  ASSERT_EQ(c.particles.size(), 216u);
+  std::ifstream ref(std::string(GRAINFLOW_TEST_DATA) + "/dem/lammps_pressure/pressure_ref.txt");
+  std::string line;
+  Simulation s(c);
+  int rows = 0;
+  double worst = 0.0;
+  while (std::getline(ref, line)) {
+    if (line.empty() || line[0] == '#') continue;
+    std::istringstream in(line);
+    std::uint64_t step = 0;
+    std::array<double, 6> p{};
+    in >> step;
+    for (double& x : p) in >> x;
+    ASSERT_TRUE(in) << line;
+    if (step > s.steps()) s.step(step - s.steps());
+    const Stats st = s.stats();
+    if (step > 0) {
+      EXPECT_GT(st.contacts, 50u) << "step " << step;
+    }
+    const double scale = std::abs(p[0] + p[1] + p[2]) / 3.0;
+    for (int a = 0; a < 6; ++a) {
+      EXPECT_NEAR(st.pressure_tensor[a], p[a], 1e-10 * scale) << "step " << step << ", component " << a;
+      worst = std::max(worst, std::abs(st.pressure_tensor[a] - p[a]) / scale);
+    }
+    ++rows;
+  }
+  EXPECT_EQ(rows, 5);
+  std::printf("largest |P_ab − LAMMPS| / P over 5 rows: %.2e\n", worst);
 }
