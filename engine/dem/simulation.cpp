@@ -620,8 +620,20 @@ Stats Simulation::stats() const {
     }
   }
   s.coordination = p_.n ? 2.0 * static_cast<double>(s.contacts) / static_cast<double>(p_.n) : 0.0;
-  // Pressure tensor (see Stats): kinetic part about the mass-averaged velocity, then the
-  // contact virial measured by the pass that computed the current forces.
+  s.volume = box_.len[0] * box_.len[1] * box_.len[2];
+  s.virial_pairs = virial_pairs_;
+  s.virial_walls = virial_walls_;
+  s.pressure_tensor = pressure_tensor();
+  s.pressure = (s.pressure_tensor[0] + s.pressure_tensor[1] + s.pressure_tensor[2]) / 3.0;
+  s.wall_force = wall_force_;
+  s.neighbor_builds = list_.builds;
+  s.neighbor_pairs = list_.pairs();
+  return s;
+}
+
+std::array<double, 6> Simulation::pressure_tensor() const {
+  // Kinetic part about the mass-averaged velocity, then the contact virial measured by the
+  // pass that computed the current forces (see Stats).
   double mtot = 0.0;
   Vec3 mom = Vec3::Zero();
   for (std::size_t i = 0; i < p_.n; ++i) {
@@ -640,15 +652,10 @@ Stats Simulation::stats() const {
     kin[4] += m * c.x() * c.z();
     kin[5] += m * c.y() * c.z();
   }
-  s.volume = box_.len[0] * box_.len[1] * box_.len[2];
-  s.virial_pairs = virial_pairs_;
-  s.virial_walls = virial_walls_;
-  for (int k = 0; k < 6; ++k) s.pressure_tensor[k] = (kin[k] + virial_pairs_[k] + virial_walls_[k]) / s.volume;
-  s.pressure = (s.pressure_tensor[0] + s.pressure_tensor[1] + s.pressure_tensor[2]) / 3.0;
-  s.wall_force = wall_force_;
-  s.neighbor_builds = list_.builds;
-  s.neighbor_pairs = list_.pairs();
-  return s;
+  const double volume = box_.len[0] * box_.len[1] * box_.len[2];
+  std::array<double, 6> p{};
+  for (int k = 0; k < 6; ++k) p[k] = (kin[k] + virial_pairs_[k] + virial_walls_[k]) / volume;
+  return p;
 }
 
 std::vector<Vec3> simple_cubic_lattice(const Vec3& lo, double a, int nx, int ny, int nz) {

@@ -133,6 +133,8 @@ public:
   const NeighborList& neighbors() const { return list_; }
   const ContactLaw& contact_law() const { return *law_; }
   Stats stats() const;
+  // Stats::pressure_tensor alone (no contact count): O(N) [Pa].
+  std::array<double, 6> pressure_tensor() const;
 
   // Checkpoint state (checkpoint.cpp): the full state incl. contact history and the
   // neighbour table. load_state restores it into a Simulation built from the same Config
