@@ -90,8 +90,8 @@ struct Stats {
   // the Love–Weber mean stress (sign reversed) of all particles, each summing its contact
   // forces times the branch vectors from its centre: particles pressed only against a
   // wall carry stress too. Gravity acts at the centres (branch vector 0) and does not
-  // enter, as LAMMPS's fix gravity adds no virial; at rest under gravity in a box,
-  // W_zz = Σ m |g| (z_i − z_lo). pressure = (P_xx + P_yy + P_zz)/3.
+  // enter, as LAMMPS's fix gravity adds no virial; a bed at rest whose weight the floor
+  // alone carries has W_zz = Σ m |g| (z_i − z_lo). pressure = (P_xx + P_yy + P_zz)/3.
   std::array<double, 6> pressure_tensor{};
   double pressure = 0.0;
   std::array<double, 6> virial_pairs{}, virial_walls{};  // W split [J]
