@@ -75,6 +75,8 @@ void Simulation::save_state(io::ArchiveWriter& w) const {
   w.array(wall_hist_);
   w.array(wall_flags_);
   for (const Vec3& f : wall_force_) write_vec3(w, f);
+  w.pod(virial_pairs_);
+  w.pod(virial_walls_);
 }
 
 void Simulation::load_state(io::ArchiveReader& r) {
@@ -114,6 +116,8 @@ void Simulation::load_state(io::ArchiveReader& r) {
   r.array(wall_flags_);
   for (Vec3& f : wall_force_)
     for (int a = 0; a < 3; ++a) r.pod(f[a]);
+  r.pod(virial_pairs_);  // the virial of the forces restored above (no pass recomputes them)
+  r.pod(virial_walls_);
   // Derived arrays: owners, reaches and the cross-pair slots (zero: every pair in range
   // is evaluated again before its slot is read).
   index_pairs(list_, p_, law_->cohesion_range());

@@ -175,14 +175,14 @@ public:
     else evaluate_lanes<kWall, false, false>(L, uniform_params, dt);
   }
 
-  void pair_pass(const ForcePass& fp, std::size_t i0, std::size_t i1) const override {
+  void pair_pass(const ForcePass& fp, std::size_t i0, std::size_t i1, double* virial) const override {
     const Box& b = *fp.box;
-    if (b.periodic[0] || b.periodic[1] || b.periodic[2]) pair_loop<true>(fp, i0, i1);
-    else pair_loop<false>(fp, i0, i1);  // all shifts are zero: skip the image look-up
+    if (b.periodic[0] || b.periodic[1] || b.periodic[2]) pair_loop<true>(fp, i0, i1, virial);
+    else pair_loop<false>(fp, i0, i1, virial);  // all shifts are zero: skip the image look-up
   }
 
   template <bool kPeriodic>
-  void pair_loop(const ForcePass& fp, std::size_t i0, std::size_t i1) const {
+  void pair_loop(const ForcePass& fp, std::size_t i0, std::size_t i1, double* virial) const {
     Particles& p = *fp.p;
     NeighborList& L = *fp.list;
     const double* __restrict x = p.x.data();
@@ -299,6 +299,11 @@ public:
           }
           fsum[3 * i] += o[0]; fsum[3 * i + 1] += o[1]; fsum[3 * i + 2] += o[2];
           csum[3 * i] += o[3]; csum[3 * i + 1] += o[4]; csum[3 * i + 2] += o[5];
+          if (virial) {
+            // r_ij = x_i − x_j: minus the lanes' separation x_j − x_i (its periodic image).
+            const double r[3] = {-lanes[Lanes::kDx][e], -lanes[Lanes::kDy][e], -lanes[Lanes::kDz][e]};
+            add_virial(virial, r, o);
+          }
           // Partner in the chunk: scatter now, else fill the pair's slot (rare: a branch
           // costs less than writing both targets).
           if (j < i1) [[likely]] {
@@ -318,7 +323,8 @@ public:
     }
   }
 
-  void wall_pass(const ForcePass& fp, std::size_t i0, std::size_t i1, double wall_sum[6][3]) const override {
+  void wall_pass(const ForcePass& fp, std::size_t i0, std::size_t i1, double wall_sum[6][3],
+                 double* virial) const override {
     const Box& box = *fp.box;
     Particles& p = *fp.p;
     const double range = range_;
@@ -373,6 +379,13 @@ public:
         const double st = lanes[Lanes::kState][e];
         if (st >= Lanes::kOn) {
           const double ri = rad[i];
+          if (virial) {
+            // The centre relative to its foot on the wall: −(unit normal towards the wall) × distance.
+            const double d = lanes[Lanes::kRj][e];
+            const double r[3] = {-d * lanes[Lanes::kDx][e], -d * lanes[Lanes::kDy][e], -d * lanes[Lanes::kDz][e]};
+            const double f[3] = {lanes[Lanes::kF][e], lanes[Lanes::kF + 1][e], lanes[Lanes::kF + 2][e]};
+            add_virial(virial, r, f);
+          }
           for (int c = 0; c < 3; ++c) {
             const double f = lanes[Lanes::kF + c][e];
             p.f[3 * i + c] += f;

@@ -44,10 +44,14 @@ public:
   // when j lies in the chunk (particle by particle, ascending i, own pairs by ascending j);
   // pairs whose j lies beyond i1 also go to their list->cross_force slot for the caller
   // to gather (list->rfirst), who then multiplies the torque sums by R_i. Reads particles
-  // i ≥ i0 only (pairs have j > i).
-  virtual void pair_pass(const ForcePass& fp, std::size_t i0, std::size_t i1) const = 0;
-  // Wall forces of particles [i0, i1), added to p->f / p->t and to wall_sum[w][3].
-  virtual void wall_pass(const ForcePass& fp, std::size_t i0, std::size_t i1, double wall_sum[6][3]) const = 0;
+  // i ≥ i0 only (pairs have j > i). virial non-null: the pairs' contact virial is added to
+  // virial[6] (add_virial, in the order the forces are summed).
+  virtual void pair_pass(const ForcePass& fp, std::size_t i0, std::size_t i1, double* virial) const = 0;
+  // Wall forces of particles [i0, i1), added to p->f / p->t and to wall_sum[w][3];
+  // virial non-null: the wall contacts' virial is added to virial[6], r = the centre
+  // relative to its foot on the wall plane.
+  virtual void wall_pass(const ForcePass& fp, std::size_t i0, std::size_t i1, double wall_sum[6][3],
+                         double* virial) const = 0;
   // One contact, for tests and diagnostics. Returns false when out of range.
   virtual bool evaluate(int type_pair, const ContactKinematics& k, double* hist, bool update,
                         ContactForce& out) const = 0;
@@ -55,6 +59,21 @@ public:
   // k.delta (−delta = surface gap); 0 without cohesion. For diagnostics (pair.csv).
   virtual double cohesion_force(int type_pair, const ContactKinematics& k) const = 0;
 };
+
+// One contact's share of the virial, r ⊗ F with r = x_i − x_partner (or x_i − the contact's
+// foot on a wall) and F the force on i, in the order xx, yy, zz, xy, xz, yz; the
+// off-diagonal terms symmetrised, (r_a F_b + r_b F_a)/2 (a tangential force makes r ⊗ F
+// asymmetric; summed over all contacts the asymmetric part is the net contact torque,
+// which vanishes in rotational equilibrium). Summing v in a fixed contact order is the
+// caller's part.
+inline void add_virial(double v[6], const double r[3], const double f[3]) {
+  v[0] += r[0] * f[0];
+  v[1] += r[1] * f[1];
+  v[2] += r[2] * f[2];
+  v[3] += 0.5 * (r[0] * f[1] + r[1] * f[0]);
+  v[4] += 0.5 * (r[0] * f[2] + r[2] * f[0]);
+  v[5] += 0.5 * (r[1] * f[2] + r[2] * f[1]);
+}
 
 // per_type[type_pair(a, b)] for a, b ∈ {0, 1} and b = kWallType; m_eff_pair[...] is the
 // reduced mass used to turn a restitution into a damping rate (Hooke).

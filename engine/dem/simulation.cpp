@@ -334,6 +334,10 @@ void Simulation::begin_force_pass(bool update, bool then_integrate) {
   const std::size_t nchunks = force_chunks();
   chunk_wall_.assign(nchunks * 18, 0.0);
   chunk_disp_.assign(nchunks, 0.0);
+  // The virial only where the pass's forces remain the state's (the end of a step()
+  // batch, the set-up): a stats row reads it, the passes in between need not pay for it.
+  pass_.virial = !then_integrate;
+  if (pass_.virial) chunk_virial_.assign(nchunks * 12, 0.0);
   if (!sync_) sync_ = std::make_unique<ThreadSync>();
   sync_->resize(nchunks);
   if (chunk_time_.size() != 2 * nchunks) {
@@ -352,7 +356,7 @@ void Simulation::force_pass_share(std::size_t t, std::size_t T) {
   const std::size_t kChunk = force_chunk_size(n);  // fixed work unit: independent of thread count
   const std::size_t nchunks = force_chunks();
   const double kick = pass_.kick, dt = dt_;
-  const bool then_integrate = pass_.integrate;
+  const bool then_integrate = pass_.integrate, with_virial = pass_.virial;
   const std::uint32_t pass = pass_.number;
   ForcePass fp;
   fp.p = &p_;
@@ -374,7 +378,7 @@ void Simulation::force_pass_share(std::size_t t, std::size_t T) {
   // Pair pass of chunk c: its own pairs, shares to its own particles at once and to later
   // chunks' particles through cross-force slots.
   auto pair_part = [&](std::size_t c) {
-    law.pair_pass(fp, c * kChunk, std::min(n, (c + 1) * kChunk));
+    law.pair_pass(fp, c * kChunk, std::min(n, (c + 1) * kChunk), with_virial ? &chunk_virial_[12 * c] : nullptr);
     if (T > 1) sync.publish(sync.chunk(c).pass, pass);
   };
   // The rest of chunk c, once it and the chunks with pairs into it have had their pair pass
@@ -403,7 +407,7 @@ void Simulation::force_pass_share(std::size_t t, std::size_t T) {
       tq[0] = ri * (tq[0] + t0); tq[1] = ri * (tq[1] + t1); tq[2] = ri * (tq[2] + t2);
     }
     double ws[6][3] = {};
-    law.wall_pass(fp, i0, i1, ws);
+    law.wall_pass(fp, i0, i1, ws, with_virial ? &chunk_virial_[12 * c + 6] : nullptr);
     // Gravity, fused with the next step's kick and drift (the same operations, in the
     // same order, as integrate()).
     if (then_integrate) chunk_disp_[c] = gravity_kick_drift<true, true>(P, L, i0, i1, g, kick, dt);
@@ -485,6 +489,15 @@ void Simulation::end_force_pass() {
   for (std::size_t c = 0; c < nchunks; ++c)
     for (int w = 0; w < 6; ++w)
       for (int a = 0; a < 3; ++a) wall_force_[w][a] += chunk_wall_[c * 18 + 3 * w + a];
+  if (pass_.virial) {
+    virial_pairs_.fill(0.0);
+    virial_walls_.fill(0.0);
+    for (std::size_t c = 0; c < nchunks; ++c)
+      for (int k = 0; k < 6; ++k) {
+        virial_pairs_[k] += chunk_virial_[12 * c + k];
+        virial_walls_[k] += chunk_virial_[12 * c + 6 + k];
+      }
+  }
 }
 
 void Simulation::compute_forces(bool update, bool then_integrate) {
@@ -607,10 +620,42 @@ Stats Simulation::stats() const {
     }
   }
   s.coordination = p_.n ? 2.0 * static_cast<double>(s.contacts) / static_cast<double>(p_.n) : 0.0;
+  s.volume = box_.len[0] * box_.len[1] * box_.len[2];
+  s.virial_pairs = virial_pairs_;
+  s.virial_walls = virial_walls_;
+  s.pressure_tensor = pressure_tensor();
+  s.pressure = (s.pressure_tensor[0] + s.pressure_tensor[1] + s.pressure_tensor[2]) / 3.0;
   s.wall_force = wall_force_;
   s.neighbor_builds = list_.builds;
   s.neighbor_pairs = list_.pairs();
   return s;
+}
+
+std::array<double, 6> Simulation::pressure_tensor() const {
+  // Kinetic part about the mass-averaged velocity, then the contact virial measured by the
+  // pass that computed the current forces (see Stats).
+  double mtot = 0.0;
+  Vec3 mom = Vec3::Zero();
+  for (std::size_t i = 0; i < p_.n; ++i) {
+    mtot += p_.mass[i];
+    mom += p_.mass[i] * velocity(i);
+  }
+  const Vec3 vcm = mtot > 0.0 ? Vec3(mom / mtot) : Vec3::Zero();
+  std::array<double, 6> kin{};
+  for (std::size_t i = 0; i < p_.n; ++i) {
+    const Vec3 c = velocity(i) - vcm;
+    const double m = p_.mass[i];
+    kin[0] += m * c.x() * c.x();
+    kin[1] += m * c.y() * c.y();
+    kin[2] += m * c.z() * c.z();
+    kin[3] += m * c.x() * c.y();
+    kin[4] += m * c.x() * c.z();
+    kin[5] += m * c.y() * c.z();
+  }
+  const double volume = box_.len[0] * box_.len[1] * box_.len[2];
+  std::array<double, 6> p{};
+  for (int k = 0; k < 6; ++k) p[k] = (kin[k] + virial_pairs_[k] + virial_walls_[k]) / volume;
+  return p;
 }
 
 std::vector<Vec3> simple_cubic_lattice(const Vec3& lo, double a, int nx, int ny, int nz) {

@@ -1,6 +1,7 @@
 // The 3D soft-sphere DEM engine (seed 000 ch. 2–5): Walton / Hooke contacts with history,
 // leap-frog integration (Eq. 2.19), Verlet table built by chain cells, box walls or
-// periodic axes, two particle groups, van der Waals cohesion.
+// periodic axes, two particle groups, van der Waals cohesion; the pressure tensor of the
+// motion and the contact virial (Stats).
 // UNITS: SI throughout — metres, kilograms, seconds, newtons, joules, radians per second.
 #pragma once
 #include <array>
@@ -79,6 +80,22 @@ struct Stats {
   std::size_t wall_contacts = 0;
   double coordination = 0.0;    // 2 × contacts / N
   std::array<Vec3, 6> wall_force{};  // force exerted by the particles on each wall [N]
+  // Pressure tensor [Pa] at the current step, components xx, yy, zz, xy, xz, yz:
+  //   P_ab = (Σ_i m_i C_a C_b + W_ab) / V,  C = v_i − V_cm,
+  // v_i the full-step velocity (as in `kinetic`), V_cm = Σ m v / Σ m the mass-averaged
+  // velocity, V = the box volume (lx ly lz, open top included), and W the contact virial:
+  //   W_ab = Σ_pairs r_ij,a F_ij,b + Σ_wall contacts r_a F_b (symmetrised off the diagonal),
+  // r_ij = x_i − x_j the periodic image the force acts across, F_ij the force on i; for a
+  // wall contact r = x_i − its foot on the wall plane. With the wall contacts, W/V is
+  // the Love–Weber mean stress (sign reversed) of all particles, each summing its contact
+  // forces times the branch vectors from its centre: particles pressed only against a
+  // wall carry stress too. Gravity acts at the centres (branch vector 0) and does not
+  // enter, as LAMMPS's fix gravity adds no virial; a bed at rest whose weight the floor
+  // alone carries has W_zz = Σ m |g| (z_i − z_lo). pressure = (P_xx + P_yy + P_zz)/3.
+  std::array<double, 6> pressure_tensor{};
+  double pressure = 0.0;
+  std::array<double, 6> virial_pairs{}, virial_walls{};  // W split [J]
+  double volume = 0.0;  // [m³]
   std::uint64_t neighbor_builds = 0;
   std::size_t neighbor_pairs = 0;
 };
@@ -116,6 +133,8 @@ public:
   const NeighborList& neighbors() const { return list_; }
   const ContactLaw& contact_law() const { return *law_; }
   Stats stats() const;
+  // Stats::pressure_tensor alone (no contact count): O(N) [Pa].
+  std::array<double, 6> pressure_tensor() const;
 
   // Checkpoint state (checkpoint.cpp): the full state incl. contact history and the
   // neighbour table. load_state restores it into a Simulation built from the same Config
@@ -157,6 +176,9 @@ private:
   std::vector<double> final_radius_;     // radius growth target
   std::vector<double> chunk_wall_;   // per chunk 6×3
   std::vector<double> chunk_disp_;   // per chunk max squared displacement
+  // Per chunk: the virial of its pairs (6) and of its wall contacts (6), summed over the
+  // chunks in ascending order at the end of the pass: the same bits for any thread count.
+  std::vector<double> chunk_virial_;
   std::unique_ptr<ThreadSync> sync_;  // chunk flags and barrier of the force passes
   // Per chunk: smoothed seconds of its force work, and the last pass's of its pair pass
   // and rest, from which more than two threads divide the chunks into segments (timing
@@ -164,6 +186,7 @@ private:
   std::vector<double> chunk_cost_, chunk_time_;
   struct PassPlan {
     bool update = true, integrate = false;
+    bool virial = false;  // the last pass of a step() batch: its forces are the state's
     double kick = 0.0;
     std::uint32_t number = 0;
     std::size_t team = 1;  // threads that took part
@@ -174,6 +197,9 @@ private:
   bool started_ = false;         // first kick is a half kick (v given at t = 0)
   bool need_rebuild_ = false;
   std::array<Vec3, 6> wall_force_{};
+  // The contact virial of the forces now in p_.f (see Stats::pressure_tensor), measured by
+  // the pass that computed them: pairs and walls.
+  std::array<double, 6> virial_pairs_{}, virial_walls_{};
 };
 
 // Threads the force passes use: OMP_NUM_THREADS or all cores unless set (1 without

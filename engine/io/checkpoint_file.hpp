@@ -17,7 +17,8 @@
 
 namespace grainflow::io {
 
-inline constexpr std::uint32_t kCheckpointVersion = 1;
+// 2: the DEM state carries the contact virial of its forces (the pressure tensor).
+inline constexpr std::uint32_t kCheckpointVersion = 2;
 
 struct CheckpointInfo {
   std::string engine;                  // "ed", "dem"

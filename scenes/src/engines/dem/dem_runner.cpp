@@ -1,7 +1,8 @@
 // `grainflow run` adapter of the 3D DEM engine (engine/dem): its keys (dem_keys.hpp) →
 // dem::Config (SI units), frames of spheres coloured by the attributes of
-// kSphereAttributes, stats rows of energies, contacts and wall forces, optionally pair.csv
-// (the force–separation record of particles 1 and 2, seed 000 §5.4), and the table row.
+// kSphereAttributes, stats rows of energies, contacts, wall forces and the pressure tensor,
+// optionally pair.csv (the force–separation record of particles 1 and 2, seed 000 §5.4),
+// and the table row.
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -311,8 +312,12 @@ public:
       }
       if (sim_.time() >= t - 0.5 * sim_.dt()) break;
     }
+    sample_pressure();
   }
-  void advance_steps(std::uint64_t n) override { step(n); }
+  void advance_steps(std::uint64_t n) override {
+    step(n);
+    sample_pressure();
+  }
   std::uint64_t steps_done() const override { return sim_.steps(); }
 
   void snapshot(const std::string& colour_by, render::Snapshot& s) override {
@@ -391,7 +396,8 @@ public:
     f.extra = {{"omegax", std::move(wx)}, {"omegay", std::move(wy)}, {"omegaz", std::move(wz)}, {"mass", std::move(mass)}};
   }
 
-  // Every column is the state at the row's time (no window).
+  // Every column is the state at the row's time (no window), but the pressure tensor: the
+  // mean of its samples since the previous row (an instantaneous virial is noisy).
   std::vector<StatsColumn> stats_columns() const override {
     return {{"step", "1", "time steps taken since the start"},
             {"N", "1", "particles in the system (the DEM engine neither inserts nor removes any)"},
@@ -401,16 +407,43 @@ public:
             {"contacts", "1", "particle–particle pairs with overlap > 0"},
             {"coordination", "1", "mean contacts per particle, 2 contacts / N"},
             {"wall_force_bottom_z", "N", "z component of the force the particles exert on the z-lo wall"},
-            {"neighbour_builds", "1", "Verlet neighbour list rebuilds since the start"}};
+            {"neighbour_builds", "1", "Verlet neighbour list rebuilds since the start"},
+            {"pressure", "Pa",
+             "(P_xx + P_yy + P_zz)/3: the mean pressure over the stats window, of the same samples as P_xx"},
+            {"P_xx", "Pa",
+             "pressure tensor xx, the mean of its samples since the previous row, taken at the end of every slice "
+             "the run advances by (at most exposure/20 apart; the row's own time included). A sample is the state "
+             "at its step: [Σ m (v_x − V_x)² + W_xx] / vol; v the full-step velocities, V the mass-averaged "
+             "velocity, vol = lx·ly·lz the box volume; W the contact virial Σ_pairs r_ij,x F_ij,x (r_ij = x_i − "
+             "x_j across the periodic image the force acts through, F_ij the force on i) + Σ_wall contacts r_x F_x (r = "
+             "the centre minus its foot on the wall: the Love–Weber stress of all particles, wall-bound ones included); "
+             "gravity adds nothing (it acts at the centres, as LAMMPS's fix gravity adds no virial)"},
+            {"P_yy", "Pa", "pressure tensor yy: [Σ m (v_y − V_y)² + W_yy] / vol, averaged as P_xx"},
+            {"P_zz", "Pa", "pressure tensor zz: [Σ m (v_z − V_z)² + W_zz] / vol, averaged as P_xx"},
+            {"P_xy", "Pa",
+             "pressure tensor xy: [Σ m (v_x − V_x)(v_y − V_y) + Σ (r_x F_y + r_y F_x)/2] / vol, averaged as P_xx "
+             "(symmetrised; the contacts of P_xx; LAMMPS's compute pressure reports Σ r_x F_y, which differs by half the "
+             "net contact torque, zero for frictionless contacts and at rest)"},
+            {"P_xz", "Pa",
+             "pressure tensor xz: [Σ m (v_x − V_x)(v_z − V_z) + Σ (r_x F_z + r_z F_x)/2] / vol, averaged as P_xx "
+             "(symmetrised; for a Couette flow along x between walls normal to z, −P_xz is the shear stress)"},
+            {"P_yz", "Pa",
+             "pressure tensor yz: [Σ m (v_y − V_y)(v_z − V_z) + Σ (r_y F_z + r_z F_y)/2] / vol, averaged as P_xx "
+             "(symmetrised)"}};
   }
   void check_finite() const override { require_finite(sim_.stats()); }
 
   std::vector<double> stats_row() override {
     const dem::Stats st = sim_.stats();
     require_finite(st);
+    if (pressure_samples_ == 0) sample_pressure();  // a row before any advance: the state now
+    std::array<double, 6> p;
+    for (int k = 0; k < 6; ++k) p[k] = pressure_sum_[k] / double(pressure_samples_);
+    pressure_sum_.fill(0.0);
+    pressure_samples_ = 0;
     return {double(st.step),        double(sim_.size()), st.kinetic,           st.rotational,
             st.potential_gravity,   double(st.contacts), st.coordination,      st.wall_force[4].z(),
-            double(st.neighbor_builds)};
+            double(st.neighbor_builds), (p[0] + p[1] + p[2]) / 3.0, p[0], p[1], p[2], p[3], p[4], p[5]};
   }
 
   double work() const override { return double(sim_.steps()) * double(sim_.size()); }
@@ -427,6 +460,8 @@ public:
     io::save(w, fields_);  // the exposure being accumulated
     w.pod(next_sample_);
     w.pod(fields_begin_);
+    w.pod(pressure_sum_);  // the stats window being accumulated
+    w.pod(pressure_samples_);
   }
   void load(io::ArchiveReader& r) override {
     sim_.load_state(r);
@@ -434,6 +469,8 @@ public:
     io::load(r, fields_);
     r.pod(next_sample_);
     r.pod(fields_begin_);
+    r.pod(pressure_sum_);
+    r.pod(pressure_samples_);
   }
 
   std::string state_digest() const override {
@@ -461,6 +498,14 @@ private:
   }
 
 
+  // One sample of the pressure tensor's stats window, at the end of an advance: always
+  // after a whole slice of the run, so a resumed run takes the same samples.
+  void sample_pressure() {
+    const std::array<double, 6> p = sim_.pressure_tensor();
+    for (int k = 0; k < 6; ++k) pressure_sum_[k] += p[k];
+    ++pressure_samples_;
+  }
+
   // Steps the engine, stopping every pair_every steps for the pair record when asked.
   void step(std::uint64_t n) {
     if (!pair_) return sim_.step(n);
@@ -479,6 +524,8 @@ private:
   Scene scene_;
   std::uint64_t pair_every_;
   PairProbe* pair_ = nullptr;  // owned by the run loop with the other outputs, when asked for
+  std::array<double, 6> pressure_sum_{};  // Σ of the samples since the last stats row
+  std::uint64_t pressure_samples_ = 0;
 };
 
 }  // namespace
