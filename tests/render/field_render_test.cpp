@@ -20,6 +20,7 @@
 
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -424,6 +425,88 @@ TEST_P(FieldRender, MapsMeetARoundObstacleWithoutSquareTeeth) {
     EXPECT_EQ(img.pixel(fx, fy)[0], nan.r) << "filter " << int(filter);
     EXPECT_EQ(img.pixel(fx, fy)[1], nan.g);
   }
+}
+
+// Values beyond a fixed range are drawn in the end colours and marked by a triangle at
+// that end of the bar: one bin above the range adds ink above the bar only, one below it
+// ink below the bar only (the map changes at that bin alone, far left of the bar).
+TEST_P(FieldRender, ClippedValuesPutATriangleOnTheirEndOfTheBar) {
+  core::ScalarField f(grid(16, 10), 0.5);
+  auto bar_diff = [&](double value) {
+    core::ScalarField g = f;
+    g.at(1, 5) = value;
+    SinglePanel base(f, FieldFilter::nearest), changed(g, FieldFilter::nearest);
+    base.layout.panels[0].colour_bar = changed.layout.panels[0].colour_bar = true;
+    FrameRenderer r(*ctx_, 400, 300);
+    const Image a = r.render(base.s, {}, base.layout);
+    const Image& b = r.render(changed.s, {}, changed.layout);
+    const int right = base.pixel(f.grid.hi, 400, 300).first + 2;  // right of the map
+    std::pair<int, int> rows{300, -1};                             // first and last row that changed
+    for (int y = 0; y < 300; ++y)
+      for (int x = right; x < 400; ++x)
+        if (std::memcmp(a.pixel(x, y), b.pixel(x, y), 4) != 0) rows = {std::min(rows.first, y), std::max(rows.second, y)};
+    return rows;
+  };
+  const auto [top_bar, bottom_bar] = [&] {  // the map's top and bottom rows: the bar spans them
+    SinglePanel sp(f, FieldFilter::nearest);
+    return std::pair{sp.pixel({0, 5}, 400, 300).second, sp.pixel({0, 0}, 400, 300).second};
+  }();
+  const auto above = bar_diff(1.5), below = bar_diff(-0.5), inside = bar_diff(0.9);
+  EXPECT_EQ(inside.second, -1);  // within the range: the bar does not change
+  ASSERT_GE(above.second, 0);
+  ASSERT_GE(below.second, 0);
+  EXPECT_LT(above.second, top_bar + (bottom_bar - top_bar) / 4) << "above: rows " << above.first << "–" << above.second;
+  EXPECT_GT(below.first, bottom_bar - (bottom_bar - top_bar) / 4) << "below: rows " << below.first << "–" << below.second;
+}
+
+// Before the first exposure a map panel draws the geometry — obstacle, piston and filter
+// planes — and says when its field comes; with fields the planes are drawn over the map.
+TEST_P(FieldRender, PanelsDrawTheGeometryAndSayWhenFieldsCome) {
+  Snapshot s = obstacle_scene(true);
+  s.boundary_lines.push_back({{197, 0}, {197, 100}});  // the outlet filter
+  FrameLayout l = make_layout(1, 1, std::vector<std::string>{"temperature"});
+  l.caption = false;
+  l.panels[0].colour_bar = false;
+  l.panels[0].range = FieldRange::fixed(0.0, 0.05);
+  const int w = 800, h = 440;
+  const auto geo = layout_frame(l, w, h, false).panels[0];
+  const ViewTransform v = fit_2d(s.lo.head<2>(), s.hi.head<2>(), geo.plot.w, geo.plot.h);
+  auto pixel = [&](const Vec2& p) {
+    const Eigen::Vector4f c = v.view_proj() * Eigen::Vector4f(float(p.x()), float(p.y()), 0.f, 1.f);
+    return std::pair{int(geo.plot.x + (c.x() + 1) * 0.5 * geo.plot.w), int(geo.plot.y + (1 - c.y()) * 0.5 * geo.plot.h)};
+  };
+  auto dark_on_filter = [&](const Image& img) {  // rows along x = 197 whose pixel there is dark
+    int n = 0;
+    for (double y = 10; y <= 90; y += 10) {
+      const auto [px, py] = pixel({197, y});
+      int darkest = 255;
+      for (int dx = -1; dx <= 1; ++dx) darkest = std::min<int>(darkest, img.pixel(px + dx, py)[0]);
+      n += darkest < 80;
+    }
+    return n;
+  };
+  FrameRenderer r(*ctx_, w, h);
+  const Image with_fields = r.render(s, {}, l);
+  EXPECT_EQ(dark_on_filter(with_fields), 9);
+  const Rgba8 map_colour = Colormap(ColormapId::inferno).rgba8(0.5);
+  const auto [mx, my] = pixel({150, 20});
+  EXPECT_NEAR(with_fields.pixel(mx, my)[0], map_colour.r, 3);
+  s.fields.clear();
+  s.velocity.reset();
+  s.fields_pending = "fields from t = 24 (first exposure)";
+  const Image pending = r.render(s, {}, l);
+  EXPECT_EQ(dark_on_filter(pending), 9);
+  const auto [ox, oy] = pixel({kObX, kObY});  // the obstacle, filled
+  EXPECT_EQ(pending.pixel(ox, oy)[0], with_fields.pixel(ox, oy)[0]);
+  EXPECT_NE(pending.pixel(mx, my)[0], map_colour.r);  // no map
+  // The sentence, centred in the plot (right of the obstacle's outline): ink there, and
+  // another sentence than without one.
+  int ink = 0;
+  for (int y = geo.plot.y + geo.plot.h / 2 - 8; y < geo.plot.y + geo.plot.h / 2 + 8; ++y)
+    for (int x = pixel({80, 0}).first; x < geo.plot.x + 3 * geo.plot.w / 4; ++x) ink += pending.pixel(x, y)[0] < 100;
+  EXPECT_GT(ink, 50);
+  s.fields_pending.clear();
+  EXPECT_NE(r.render(s, {}, l).rgba, pending.rgba);  // "no temperature field" instead
 }
 
 // The default scene's view in miniature with fixed colour ranges ([render.ranges]): the
