@@ -141,6 +141,48 @@ bins = [15, 15]
   std::printf("  %d full bins: noise %.3f; %d cut bins; largest |z| %.2f\n", n_full, sd, n_cut, worst);
 }
 
+TEST(EdFields, FrameZeroSaysWhenFieldsComeAndTheBarsNameTheirQuantities) {
+  // Before the first exposure is over there are no fields: the panels say when they come
+  // (not "no density field" three times). Then the bars name the mean speed <|v|>
+  // (thermal motion included; the streamline panels draw |<v>| of the mean velocity,
+  // which the snapshot carries apart) and the density's unit.
+  const Scene sc = parse_scene(R"([run]
+engine = "ed"
+until = 4.0
+[system]
+box = [20.0, 20.0]
+area_fraction = 0.3
+kT = 0.02
+[sample]
+exposure = 2.5
+bins = [4, 4]
+)");
+  auto runner = find_engine("ed")->make_runner(sc);
+  render::Snapshot s;
+  runner->snapshot("uniform", s);
+  EXPECT_TRUE(s.fields.empty());
+  EXPECT_EQ(s.fields_pending, "fields from t = 2.5 (first exposure)");
+  while (runner->time() < 2.5) runner->advance_to(2.5);
+  runner->snapshot("uniform", s);
+  EXPECT_TRUE(s.fields_pending.empty()) << s.fields_pending;
+  ASSERT_NE(s.field("density"), nullptr);
+  EXPECT_EQ(s.field("density")->label, "n [σ⁻²]");
+  ASSERT_NE(s.field("speed"), nullptr);
+  EXPECT_EQ(s.field("speed")->label, "<|v|>");
+  ASSERT_NE(s.field("temperature"), nullptr);
+  EXPECT_EQ(s.field("temperature")->label, "kT");
+  ASSERT_TRUE(s.velocity.has_value());
+  // <|v|> ≥ |<v>| in every bin (the mean of lengths is at least the length of the mean,
+  // equal masses), and by far on the whole: the gas is at rest, its disks are not.
+  double mean_speed = 0, speed_of_mean = 0;
+  for (std::size_t b = 0; b < s.velocity->values.size(); ++b) {
+    EXPECT_GE(s.field("speed")->field.values[b], s.velocity->values[b].norm()) << b;
+    mean_speed += s.field("speed")->field.values[b];
+    speed_of_mean += s.velocity->values[b].norm();
+  }
+  EXPECT_GT(mean_speed, 2 * speed_of_mean);
+}
+
 TEST(EdFields, BinsAlongAHardWallAreNotDepleted) {
   // Hard walls across y (not periodic): centres keep σ/2 off them, so the bins of the rows
   // along them have 12 % less room than the others and, divided by the whole bin, read
