@@ -231,7 +231,7 @@ void PanelRenderer::draw(FrameRenderer& frame, const Snapshot& s, const FrameSty
           break;
         }
         const auto range = resolve_range(*f, spec.range);
-        fields_.draw(view, *f, range, cmap, spec.filter);
+        fields_.draw(view, *f, range, cmap, spec.filter, solids_);
         frame.draw_geometry(*planar_geometry, style, view, plot.w, plot.h, true);
         bar = PendingBar{{}, range, cmap, label, g.tick_px};
         mark_clipped(f->values, f->mask, range, *bar);
@@ -253,7 +253,7 @@ void PanelRenderer::draw(FrameRenderer& frame, const Snapshot& s, const FrameSty
           const auto& speed = speed_field(*s.velocity, relative ? reference : Vec2(0.0, 0.0));
           range = resolve_range(speed, spec.range);
           ranges_[i] = range;
-          fields_.draw(view, speed, range, cmap, spec.filter);
+          fields_.draw(view, speed, range, cmap, spec.filter, solids_);
           streamlines_.draw(view, plot.w, plot.h, *s.velocity, solids_, spec.streamlines, reference);
         } else {
           StreamlineStyle st = spec.streamlines;

@@ -79,6 +79,49 @@ std::pair<double, double> resolve_range(const core::ScalarField& field, const Fi
   return resolve_range(valid, range);
 }
 
+void fill_bins_under_solids(const core::GridGeometry& g, std::vector<float>& values, std::vector<std::uint8_t>& valid,
+                            std::span<const SolidCircle> solids) {
+  if (solids.empty() || g.nx < 1 || g.ny < 1 || values.size() != g.size() || valid.size() != g.size()) return;
+  // Bins whose square reaches into a circle: the nearest point of the square to the
+  // centre lies inside it.
+  const double dx = g.dx(), dy = g.dy();
+  std::vector<std::size_t> pending;
+  for (int iy = 0; iy < g.ny; ++iy)
+    for (int ix = 0; ix < g.nx; ++ix) {
+      const std::size_t b = g.index(ix, iy);
+      if (valid[b]) continue;
+      const double x0 = g.lo.x() + ix * dx, y0 = g.lo.y() + iy * dy;
+      for (const SolidCircle& c : solids) {
+        const double nx = std::clamp(c.centre.x(), x0, x0 + dx) - c.centre.x();
+        const double ny = std::clamp(c.centre.y(), y0, y0 + dy) - c.centre.y();
+        if (nx * nx + ny * ny < c.radius * c.radius) {
+          pending.push_back(b);
+          break;
+        }
+      }
+    }
+  std::vector<std::pair<std::size_t, float>> filled;
+  while (!pending.empty()) {
+    filled.clear();
+    std::vector<std::size_t> left;
+    for (std::size_t b : pending) {
+      const int ix = int(b % std::size_t(g.nx)), iy = int(b / std::size_t(g.nx));
+      double sum = 0;
+      int n = 0;
+      for (int jy = std::max(0, iy - 1); jy <= std::min(g.ny - 1, iy + 1); ++jy)
+        for (int jx = std::max(0, ix - 1); jx <= std::min(g.nx - 1, ix + 1); ++jx) {
+          const std::size_t k = g.index(jx, jy);
+          if (valid[k]) sum += values[k], ++n;
+        }
+      if (n > 0) filled.emplace_back(b, float(sum / n));
+      else left.push_back(b);
+    }
+    if (filled.empty()) break;  // the rest has no valid bin anywhere near: stays masked
+    for (const auto& [b, v] : filled) values[b] = v, valid[b] = 1;
+    pending = std::move(left);
+  }
+}
+
 FieldMapLayer::FieldMapLayer(const GlApi& gl)
     : gl_(gl), program_(gl, "field_map.vert", "field_map.frag"), vao_(gl), field_texture_(gl), colormap_texture_(gl) {}
 
@@ -126,18 +169,25 @@ void FieldMapLayer::draw_texels(const ViewTransform& view, int nx, int ny, const
 }
 
 void FieldMapLayer::draw(const ViewTransform& view, const core::ScalarField& field, std::pair<double, double> range,
-                         const Colormap& colormap, FieldFilter filter) {
+                         const Colormap& colormap, FieldFilter filter, std::span<const SolidCircle> solids) {
   const auto& g = field.grid;
   if (g.nx < 1 || g.ny < 1 || field.values.size() != g.size()) return;
   const double lo = range.first, span = range.second - range.first;
   const double inv = span > 0 && std::isfinite(span) ? 1.0 / span : 0.0;
-  texels_.resize(2 * g.size());
+  values_.resize(g.size());
+  valid_.resize(g.size());
   for (std::size_t i = 0; i < g.size(); ++i) {
     const double v = field.values[i];
     const bool ok = (field.mask.empty() || field.mask[i]) && std::isfinite(v);
     // Clamped on the CPU too: a huge finite value must not become inf in 32-bit float.
-    texels_[2 * i] = ok ? float(std::clamp(inv > 0 ? (v - lo) * inv : 0.5, -1.0, 2.0)) : 0.0f;
-    texels_[2 * i + 1] = ok ? 1.0f : 0.0f;
+    values_[i] = ok ? float(std::clamp(inv > 0 ? (v - lo) * inv : 0.5, -1.0, 2.0)) : 0.0f;
+    valid_[i] = ok ? 1 : 0;
+  }
+  fill_bins_under_solids(g, values_, valid_, solids);
+  texels_.resize(2 * g.size());
+  for (std::size_t i = 0; i < g.size(); ++i) {
+    texels_[2 * i] = values_[i];
+    texels_[2 * i + 1] = valid_[i] ? 1.0f : 0.0f;
   }
   bind_colormap(colormap);
   draw_texels(view, g.nx, g.ny, g.lo, g.hi, filter == FieldFilter::bilinear);

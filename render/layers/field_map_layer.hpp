@@ -3,7 +3,9 @@
 // with masked and non-finite bins in the neutral Colormap::kNanColour, and the colour range
 // fixed, automatic, or from percentiles so that one hot bin does not wash the map out.
 #pragma once
+#include <cstdint>
 #include <optional>
+#include <span>
 #include <utility>
 #include <vector>
 
@@ -14,6 +16,7 @@
 #include "render/layers/camera.hpp"
 #include "render/layers/colormap.hpp"
 #include "render/layers/gl_buffer.hpp"
+#include "render/layers/streamlines.hpp"
 
 namespace grainflow::render {
 
@@ -42,13 +45,26 @@ std::pair<double, double> resolve_range(const std::vector<double>& values, const
 
 enum class FieldFilter { nearest, bilinear };
 
+// The bins under a solid circle (the obstacle, drawn over the map): a bin whose centre it
+// covers holds no gas and is masked, but its square's corners poke out of the round
+// obstacle. Each masked (valid[b] = 0) bin whose square reaches into a circle takes the
+// mean of its valid 8 neighbours, in passes (each from the previous pass's bins) until
+// none is left that has one; it is then drawn as valid. The map so meets the obstacle's
+// edge instead of showing grey square teeth around it. Masked bins away from the solids
+// (no data) keep their mask. `values` and `valid` are per bin (grid.index order).
+void fill_bins_under_solids(const core::GridGeometry& grid, std::vector<float>& values, std::vector<std::uint8_t>& valid,
+                            std::span<const SolidCircle> solids);
+
 class FieldMapLayer {
 public:
   explicit FieldMapLayer(const GlApi& gl);
 
   // Draws `field` over its grid rectangle; value v maps to t = (v − lo)/(hi − lo), clamped.
+  // Masked bins under the `solids` (drawn over the map afterwards) are filled from their
+  // neighbours (fill_bins_under_solids).
   void draw(const ViewTransform& view, const core::ScalarField& field, std::pair<double, double> range,
-            const Colormap& colormap, FieldFilter filter = FieldFilter::nearest);
+            const Colormap& colormap, FieldFilter filter = FieldFilter::nearest,
+            std::span<const SolidCircle> solids = {});
   // A colour-bar strip: the whole map from t = 0 at lo.y to t = 1 at hi.y (world units of
   // `view`), smooth.
   void draw_gradient(const ViewTransform& view, const Eigen::Vector2d& lo, const Eigen::Vector2d& hi,
@@ -65,6 +81,8 @@ private:
   GlTexture field_texture_, colormap_texture_;
   std::optional<ColormapId> uploaded_map_;
   std::vector<float> texels_;  // RG per bin, reused
+  std::vector<float> values_;  // per bin, reused
+  std::vector<std::uint8_t> valid_;
 };
 
 }  // namespace grainflow::render

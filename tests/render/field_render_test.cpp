@@ -20,14 +20,21 @@
 
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <limits>
+#include <numbers>
+#include <span>
 #include <string>
 
 #include "engine/core/binning.hpp"
 #include "engine/core/error.hpp"
 #include "engine/core/rng.hpp"
+#include "render/context/embedded_shaders.hpp"
 #include "render/context/gl_context.hpp"
+#include "render/context/shader_program.hpp"
 #include "render/frame_renderer.hpp"
 #include "render/image/compare.hpp"
 #include "render/layers/colour_bar.hpp"
@@ -329,8 +336,266 @@ TEST_P(FieldRender, ThreeDimensionalSnapshotShowsXyFields) {
   EXPECT_NO_THROW(r.render(s, {}, layout_2x2()));
 }
 
+// The README's default scene in miniature: a 200 × 100 stream past an obstacle of radius
+// 12 at (60, 50), binned 40 × 20 (bins of 5): a density bump upstream, a warm wake, the
+// potential flow's speed; the bins whose centre the obstacle covers are masked (no gas),
+// as the ED runner masks them. The masked bins' squares poke out of the round obstacle.
+constexpr double kObX = 60, kObY = 50, kObR = 12, kObU = 0.2;
+Snapshot obstacle_scene(bool uniform = false) {
+  Snapshot s;
+  s.dim = 2;
+  s.lo = {0, 0, 0};
+  s.hi = {200, 100, 0};
+  s.obstacles.push_back({{kObX, kObY}, kObR});
+  core::GridGeometry g;
+  g.nx = 40;
+  g.ny = 20;
+  g.lo = Vec2(0, 0);
+  g.hi = Vec2(200, 100);
+  core::ScalarField density(g), temperature(g), speed(g);
+  core::VectorField velocity(g);
+  for (int iy = 0; iy < g.ny; ++iy)
+    for (int ix = 0; ix < g.nx; ++ix) {
+      const Vec2 c = g.centre(ix, iy);
+      const auto k = g.index(ix, iy);
+      const Vec2 p = (c - Vec2(kObX, kObY)) / kObR;
+      const double r2 = p.squaredNorm(), r4 = r2 * r2;
+      const Vec2 v = kObU * Vec2(1.0 - (p.x() * p.x() - p.y() * p.y()) / r4, -2.0 * p.x() * p.y() / r4);
+      density.values[k] = uniform ? 0.8 : 0.8 + 0.08 * std::exp(-(c - Vec2(44, 50)).squaredNorm() / 60.0);
+      temperature.values[k] =
+          uniform ? 0.025 : 0.02 + 0.012 * std::exp(-std::pow((c.x() - 90) / 30, 2) - std::pow((c.y() - 50) / 9, 2));
+      speed.values[k] = std::sqrt(v.squaredNorm() + 2 * temperature.values[k]);
+      velocity.values[k] = v;
+      if (r2 < 1.0) {
+        density.mask[k] = temperature.mask[k] = speed.mask[k] = velocity.mask[k] = 0;
+        density.values[k] = temperature.values[k] = speed.values[k] = std::nan("");
+        velocity.values[k] = Vec2(std::nan(""), std::nan(""));
+      }
+    }
+  s.fields.push_back({"density", "n [1/σ²]", density});
+  s.fields.push_back({"temperature", "kT", temperature});
+  s.fields.push_back({"speed", "<|v|>", speed});
+  s.velocity = velocity;
+  s.reference_velocity = Eigen::Vector2d(kObU, 0.0);
+  s.length_unit = "σ";
+  return s;
+}
+
+// Outside the round obstacle the maps show the field, not the masked bins' neutral grey:
+// on a ring 1 to 2 units outside the circle (the outline is 1.5 px wide, 1 unit ≈ 4 px)
+// every pixel has the uniform field's colour, in both filter modes, while a masked bin
+// away from the obstacle (no data there) stays exactly neutral. Without filling the
+// masked bins under the obstacle the corners of the 12 masked bins poke out of it as
+// grey squares (on this ring at every diagonal).
+TEST_P(FieldRender, MapsMeetARoundObstacleWithoutSquareTeeth) {
+  Snapshot s = obstacle_scene(true);
+  auto& t = s.fields[1].field;
+  const auto far = t.grid.index(35, 3);  // an empty bin far from the obstacle
+  t.mask[far] = 0;
+  t.values[far] = std::nan("");
+  FrameLayout l = make_layout(1, 1, std::vector<std::string>{"temperature"});
+  l.caption = false;
+  l.panels[0].colour_bar = false;
+  l.panels[0].range = FieldRange::fixed(0.0, 0.05);  // the field 0.025 is the map's middle
+  l.panels[0].colormap = Colormap(ColormapId::viridis);
+  const Rgba8 want = Colormap(ColormapId::viridis).rgba8(0.5), nan = to_rgba8(Colormap::kNanColour);
+  const int w = 800, h = 440;
+  const auto geo = layout_frame(l, w, h, false).panels[0];
+  const ViewTransform v = fit_2d(s.lo.head<2>(), s.hi.head<2>(), geo.plot.w, geo.plot.h);
+  auto pixel = [&](const Vec2& p) {
+    const Eigen::Vector4f c = v.view_proj() * Eigen::Vector4f(float(p.x()), float(p.y()), 0.f, 1.f);
+    return std::pair{int(geo.plot.x + (c.x() + 1) * 0.5 * geo.plot.w), int(geo.plot.y + (1 - c.y()) * 0.5 * geo.plot.h)};
+  };
+  for (FieldFilter filter : {FieldFilter::nearest, FieldFilter::bilinear}) {
+    l.panels[0].filter = filter;
+    FrameRenderer r(*ctx_, w, h);
+    const Image& img = r.render(s, {}, l);
+    int grey = 0, off = 0;
+    for (double dr : {1.0, 1.5, 2.0})
+      for (int deg = 0; deg < 360; ++deg) {
+        const double a = deg * std::numbers::pi / 180;
+        const auto [px, py] = pixel(Vec2(kObX, kObY) + (kObR + dr) * Vec2(std::cos(a), std::sin(a)));
+        const auto* c = img.pixel(px, py);
+        grey += c[0] == nan.r && c[1] == nan.g && c[2] == nan.b;
+        off += std::abs(c[0] - want.r) > 3 || std::abs(c[1] - want.g) > 3 || std::abs(c[2] - want.b) > 3;
+      }
+    EXPECT_EQ(grey, 0) << "filter " << int(filter);
+    EXPECT_EQ(off, 0) << "filter " << int(filter);
+    const auto [fx, fy] = pixel(t.grid.centre(35, 3));
+    EXPECT_EQ(img.pixel(fx, fy)[0], nan.r) << "filter " << int(filter);
+    EXPECT_EQ(img.pixel(fx, fy)[1], nan.g);
+  }
+}
+
+// Values beyond a fixed range are drawn in the end colours and marked by a triangle at
+// that end of the bar: one bin above the range adds ink above the bar only, one below it
+// ink below the bar only (the map changes at that bin alone, far left of the bar).
+TEST_P(FieldRender, ClippedValuesPutATriangleOnTheirEndOfTheBar) {
+  core::ScalarField f(grid(16, 10), 0.5);
+  auto bar_diff = [&](double value) {
+    core::ScalarField g = f;
+    g.at(1, 5) = value;
+    SinglePanel base(f, FieldFilter::nearest), changed(g, FieldFilter::nearest);
+    base.layout.panels[0].colour_bar = changed.layout.panels[0].colour_bar = true;
+    FrameRenderer r(*ctx_, 400, 300);
+    const Image a = r.render(base.s, {}, base.layout);
+    const Image& b = r.render(changed.s, {}, changed.layout);
+    const int right = base.pixel(f.grid.hi, 400, 300).first + 2;  // right of the map
+    std::pair<int, int> rows{300, -1};                             // first and last row that changed
+    for (int y = 0; y < 300; ++y)
+      for (int x = right; x < 400; ++x)
+        if (std::memcmp(a.pixel(x, y), b.pixel(x, y), 4) != 0) rows = {std::min(rows.first, y), std::max(rows.second, y)};
+    return rows;
+  };
+  const auto [top_bar, bottom_bar] = [&] {  // the map's top and bottom rows: the bar spans them
+    SinglePanel sp(f, FieldFilter::nearest);
+    return std::pair{sp.pixel({0, 5}, 400, 300).second, sp.pixel({0, 0}, 400, 300).second};
+  }();
+  const auto above = bar_diff(1.5), below = bar_diff(-0.5), inside = bar_diff(0.9);
+  EXPECT_EQ(inside.second, -1);  // within the range: the bar does not change
+  ASSERT_GE(above.second, 0);
+  ASSERT_GE(below.second, 0);
+  EXPECT_LT(above.second, top_bar + (bottom_bar - top_bar) / 4) << "above: rows " << above.first << "–" << above.second;
+  EXPECT_GT(below.first, bottom_bar - (bottom_bar - top_bar) / 4) << "below: rows " << below.first << "–" << below.second;
+}
+
+// Before the first exposure a map panel draws the geometry — obstacle, piston and filter
+// planes — and says when its field comes; with fields the planes are drawn over the map.
+TEST_P(FieldRender, PanelsDrawTheGeometryAndSayWhenFieldsCome) {
+  Snapshot s = obstacle_scene(true);
+  s.boundary_lines.push_back({{197, 0}, {197, 100}});  // the outlet filter
+  FrameLayout l = make_layout(1, 1, std::vector<std::string>{"temperature"});
+  l.caption = false;
+  l.panels[0].colour_bar = false;
+  l.panels[0].range = FieldRange::fixed(0.0, 0.05);
+  const int w = 800, h = 440;
+  const auto geo = layout_frame(l, w, h, false).panels[0];
+  const ViewTransform v = fit_2d(s.lo.head<2>(), s.hi.head<2>(), geo.plot.w, geo.plot.h);
+  auto pixel = [&](const Vec2& p) {
+    const Eigen::Vector4f c = v.view_proj() * Eigen::Vector4f(float(p.x()), float(p.y()), 0.f, 1.f);
+    return std::pair{int(geo.plot.x + (c.x() + 1) * 0.5 * geo.plot.w), int(geo.plot.y + (1 - c.y()) * 0.5 * geo.plot.h)};
+  };
+  auto dark_on_filter = [&](const Image& img) {  // rows along x = 197 whose pixel there is dark
+    int n = 0;
+    for (double y = 10; y <= 90; y += 10) {
+      const auto [px, py] = pixel({197, y});
+      int darkest = 255;
+      for (int dx = -1; dx <= 1; ++dx) darkest = std::min<int>(darkest, img.pixel(px + dx, py)[0]);
+      n += darkest < 80;
+    }
+    return n;
+  };
+  FrameRenderer r(*ctx_, w, h);
+  const Image with_fields = r.render(s, {}, l);
+  EXPECT_EQ(dark_on_filter(with_fields), 9);
+  const Rgba8 map_colour = Colormap(ColormapId::inferno).rgba8(0.5);
+  const auto [mx, my] = pixel({150, 20});
+  EXPECT_NEAR(with_fields.pixel(mx, my)[0], map_colour.r, 3);
+  s.fields.clear();
+  s.velocity.reset();
+  s.fields_pending = "fields from t = 24 (first exposure)";
+  const Image pending = r.render(s, {}, l);
+  EXPECT_EQ(dark_on_filter(pending), 9);
+  const auto [ox, oy] = pixel({kObX, kObY});  // the obstacle, filled
+  EXPECT_EQ(pending.pixel(ox, oy)[0], with_fields.pixel(ox, oy)[0]);
+  EXPECT_NE(pending.pixel(mx, my)[0], map_colour.r);  // no map
+  // The sentence, centred in the plot (right of the obstacle's outline): ink there, and
+  // another sentence than without one.
+  int ink = 0;
+  for (int y = geo.plot.y + geo.plot.h / 2 - 8; y < geo.plot.y + geo.plot.h / 2 + 8; ++y)
+    for (int x = pixel({80, 0}).first; x < geo.plot.x + 3 * geo.plot.w / 4; ++x) ink += pending.pixel(x, y)[0] < 100;
+  EXPECT_GT(ink, 50);
+  s.fields_pending.clear();
+  EXPECT_NE(r.render(s, {}, l).rgba, pending.rgba);  // "no temperature field" instead
+}
+
+// The default scene's view in miniature with fixed colour ranges ([render.ranges]): the
+// maps meet the round obstacle cleanly, the bars keep the given ranges, the flow-speed
+// map carries the streamlines. Thresholds as for fields_2x2 (text, streamline edges).
+TEST_P(FieldRender, ObstaclePanelsWithFixedRangesMatchGolden) {
+  const std::vector<std::string> names = {"density", "temperature", "speed", "streamlines"};
+  FrameLayout l = make_layout(2, 2, names);
+  const std::vector<std::pair<double, double>> fixed = {{0.75, 0.9}, {0.015, 0.035}, {0.15, 0.35}, {0.0, 0.4}};
+  for (std::size_t i = 0; i < fixed.size(); ++i) {
+    l.panels[i].range = FieldRange::fixed(fixed[i].first, fixed[i].second);
+    l.panels[i].filter = FieldFilter::bilinear;
+  }
+  l.panels[3].streamlines.trace.separation = 8.0;
+  Snapshot s = obstacle_scene();
+  s.caption = "obstacle, fixed ranges";
+  FrameRenderer r(*ctx_, 640, 400);
+  const Image& img = r.render(s, FrameStyle{}, l);
+  ASSERT_EQ(r.last_panel_ranges().size(), fixed.size());
+  for (std::size_t i = 0; i < fixed.size(); ++i) {
+    ASSERT_TRUE(r.last_panel_ranges()[i].has_value()) << i;
+    EXPECT_EQ(*r.last_panel_ranges()[i], fixed[i]) << i;
+  }
+  golden::check_golden(img, "fields_obstacle_fixed", {kMaxChannel, kMaxFraction});
+}
+
 INSTANTIATE_TEST_SUITE_P(Backends, FieldRender, ::testing::Values(Backend::Egl, Backend::OSMesa),
                          [](const auto& info) { return std::string(backend_name(info.param)); });
+
+// The binary draws with the shaders in assets/shaders/, as they are now: the build embeds
+// them, and re-embeds one that was edited. (An edited shader once stayed out of the binary
+// — CMake read the files but did not watch them — so a fix in it changed no picture.)
+TEST(EmbeddedShaders, AreTheFilesInAssetsAsTheyAreNow) {
+  const fs::path dir = fs::path(GRAINFLOW_GOLDEN_DIR).parent_path().parent_path() / "assets" / "shaders";
+  std::size_t files = 0;
+  for (const auto& entry : fs::directory_iterator(dir)) {
+    std::ifstream in(entry.path(), std::ios::binary);
+    const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    EXPECT_EQ(shader_source(entry.path().filename().string()), text) << entry.path().filename();
+    ++files;
+  }
+  EXPECT_EQ(files, embedded_shaders().size());
+}
+
+// The masked bins whose square reaches into a solid circle take the mean of their valid
+// neighbours, pass after pass, and are drawn; other masked bins keep their mask.
+TEST(FieldMap, MaskedBinsUnderASolidTakeTheirNeighboursMean) {
+  core::GridGeometry g;
+  g.nx = g.ny = 10;
+  g.lo = Vec2(0, 0);
+  g.hi = Vec2(10, 10);
+  std::vector<float> v(g.size());
+  std::vector<std::uint8_t> ok(g.size(), 1);
+  for (int iy = 0; iy < 10; ++iy)
+    for (int ix = 0; ix < 10; ++ix) v[g.index(ix, iy)] = float(ix + 10 * iy);
+  const SolidCircle c{Vec2(5, 5), 2.2};
+  // Masked: the bins whose centre the circle covers (the 4 × 4 block 3…6), and two others.
+  std::vector<std::size_t> under;
+  for (int iy = 0; iy < 10; ++iy)
+    for (int ix = 0; ix < 10; ++ix)
+      if ((g.centre(ix, iy) - c.centre).norm() < c.radius) ok[g.index(ix, iy)] = 0, under.push_back(g.index(ix, iy));
+  ASSERT_EQ(under.size(), 16u);
+  ok[g.index(0, 9)] = 0;
+  ok[g.index(1, 5)] = 0;  // masked next to the circle's bins, its square not reaching it
+  std::vector<float> filled = v;
+  std::vector<std::uint8_t> filled_ok = ok;
+  fill_bins_under_solids(g, filled, filled_ok, std::span<const SolidCircle>(&c, 1));
+  for (std::size_t b : under) EXPECT_EQ(filled_ok[b], 1) << b;
+  EXPECT_EQ(filled_ok[g.index(0, 9)], 0);
+  EXPECT_EQ(filled_ok[g.index(1, 5)], 0);
+  // First pass: bin (3, 4) sees (2, 3), (2, 4), (2, 5) valid, the rest of its 3 × 3 masked.
+  EXPECT_FLOAT_EQ(filled[g.index(3, 4)], (32.f + 42.f + 52.f) / 3.f);
+  // Second pass: the four middle bins have no valid neighbour at first; (4, 4) then sees
+  // the first pass's ring bins (3, 3), (4, 3), (5, 3), (3, 4), (3, 5), not its fellows.
+  std::vector<float> ring;
+  for (auto [jx, jy] : {std::pair{3, 3}, {4, 3}, {5, 3}, {3, 4}, {3, 5}})
+    ring.push_back(filled[g.index(jx, jy)]);
+  EXPECT_FLOAT_EQ(filled[g.index(4, 4)], (ring[0] + ring[1] + ring[2] + ring[3] + ring[4]) / 5.f);
+  // Valid bins are untouched; without solids nothing changes.
+  for (std::size_t b = 0; b < g.size(); ++b) {
+    if (ok[b]) {
+      EXPECT_EQ(filled[b], v[b]);
+    }
+  }
+  std::vector<float> same = v;
+  std::vector<std::uint8_t> same_ok = ok;
+  fill_bins_under_solids(g, same, same_ok, {});
+  EXPECT_EQ(same_ok, ok);
+}
 
 TEST(ColourBarTicks, NiceSteps) {
   EXPECT_EQ(nice_ticks(0.0, 1.0, 5), (std::vector<double>{0.0, 0.2, 0.4, 0.6000000000000001, 0.8, 1.0}));

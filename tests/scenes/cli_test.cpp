@@ -1029,6 +1029,41 @@ TEST(CliRun, MapColourBarsStayFixedForTheWholeRunByDefault) {
   EXPECT_TRUE(contains(bad.output, "render.panels has no temperature panel")) << bad.output;
 }
 
+TEST(CliRun, StreamlinesMayBeSeenMovingWithTheStream) {
+  // obstacle_quick's first exposure: far downstream the mean velocity is the stream's U =
+  // 0.2. On the streamlines panel (bottom left of 2 × 2, range fixed to [0, 0.32]) that
+  // reads 0.6 of the map, green, in the obstacle's frame; moving with the stream,
+  // |<v> − U| ≈ 0 there: the map's dark end. Counted: of the map's pixels (not the white
+  // streamlines) in a strip of the panel 150–185 σ downstream, mid-height, the dark ones.
+  const std::string common = "run " + scenes + "/obstacle_quick.toml --set render.size=[640,360] "
+                             "--set output.mp4=false --set run.until=24 ";
+  const fs::path obstacle = fresh_dir("streamlines_obstacle"), stream = fresh_dir("streamlines_stream");
+  ASSERT_EQ(run(common + "-o " + obstacle.string()).status, 0);
+  ASSERT_EQ(run(common + "--set render.streamlines_frame=stream -o " + stream.string()).status, 0);
+  auto dark = [](const fs::path& png) {
+    const grainflow::render::Image im = grainflow::render::read_png(png);
+    int n = 0, all = 0;
+    for (int y = 70 * im.height / 100; y < 80 * im.height / 100; ++y)
+      for (int x = 29 * im.width / 100; x < 35 * im.width / 100; ++x) {
+        const auto* c = im.pixel(x, y);
+        if (c[0] > 150) continue;  // a streamline
+        ++all;
+        n += c[1] < 80;
+      }
+    return all > 50 ? double(n) / all : -1.0;
+  };
+  const std::string frame = "frames/frame_000001.png";
+  const double in_obstacle_frame = dark(obstacle / frame), with_stream = dark(stream / frame);
+  EXPECT_GE(in_obstacle_frame, 0.0);
+  EXPECT_LT(in_obstacle_frame, 0.05);
+  EXPECT_GT(with_stream, 0.5);
+  // Moving with the stream needs a panel that shows the flow.
+  const Result bad = run("run " + scenes + "/disks_box.toml --set render.streamlines_frame=stream "
+                         "--set 'render.panels=[\"density\"]' -o " + fresh_dir("streamlines_bad").string());
+  EXPECT_EQ(bad.status, 2) << bad.output;
+  EXPECT_TRUE(contains(bad.output, "has no streamlines or velocity panel")) << bad.output;
+}
+
 // The thermostat of seed 003 ch. 6 ([thermostat]): disks_box with it completes, stats.csv
 // gains its columns (events per row, power injected), run.json its totals, and a run
 // extended by --resume gives the same bits and rows (its random stream, bins and the stats

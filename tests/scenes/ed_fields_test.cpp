@@ -5,6 +5,8 @@
 
 #include <cmath>
 #include <cstdio>
+#include <numbers>
+#include <vector>
 #include <string>
 
 #include "render/snapshot.hpp"
@@ -69,6 +71,116 @@ bins = [20, 20]
   EXPECT_GT(near / far, 0.97) << "near " << near << " (" << n_near << " bins), far " << far;
   EXPECT_LT(near / far, 1.3) << "near " << near << " (" << n_near << " bins), far " << far;
   std::printf("  cut bins / far bins: %.3f (%d cut bins)\n", near / far, n_near);
+}
+
+TEST(EdFields, EquilibriumGasAroundAnObstacleReadsUniformInEveryBin) {
+  // A dilute (η = 0.05, g(σ) ≈ 1.08: no contact layer to speak of), hot (kT = 1: disks
+  // cross a bin in a few time units) periodic gas at rest around a fixed obstacle, averaged
+  // over 200 exposures. In equilibrium the number density is the same everywhere outside
+  // the solid: every bin must read the mean within its noise, the bins the obstacle cuts
+  // included. Their noise is larger by 1/√(open fraction) (fewer disks are counted there);
+  // the noise itself is measured from the bins the obstacle does not touch. Divided by the
+  // whole bin area a bin half covered reads half: ≈ 10 standard deviations low.
+  const Scene sc = parse_scene(R"([run]
+engine = "ed"
+until = 2000.0
+[system]
+box = [90.0, 90.0]
+area_fraction = 0.05
+kT = 1.0
+[boundary.obstacle]
+D = 24.0
+x = 45.0
+y = 45.0
+kind = "slip"
+[sample]
+exposure = 10.0
+bins = [15, 15]
+)");
+  auto runner = find_engine("ed")->make_runner(sc);
+  render::Snapshot s;
+  std::vector<double> sum;
+  int frames = 0;
+  for (double t = 10.0; t <= 2000.0 + 1e-9; t += 10.0) {
+    while (runner->time() < t) runner->advance_to(t);
+    runner->snapshot("uniform", s);
+    const render::NamedField* density = s.field("density");
+    ASSERT_NE(density, nullptr);
+    ASSERT_TRUE(s.exposure.has_value());
+    ASSERT_NEAR(s.exposure->t_end, t, 1e-9);  // a new exposure each time
+    sum.resize(density->field.values.size(), 0.0);
+    for (std::size_t b = 0; b < sum.size(); ++b)
+      if (density->field.mask[b]) sum[b] += density->field.values[b];
+    ++frames;
+  }
+  ASSERT_EQ(frames, 200);
+  const auto& f = s.field("density")->field;
+  const render::NamedField* open = s.field("open_fraction");
+  ASSERT_NE(open, nullptr);
+  double mean = 0, var = 0;
+  int n_full = 0, n_cut = 0;
+  for (std::size_t b = 0; b < sum.size(); ++b)
+    if (open->field.values[b] == 1.0) mean += sum[b] / frames, ++n_full;
+  mean /= n_full;
+  for (std::size_t b = 0; b < sum.size(); ++b)
+    if (open->field.values[b] == 1.0) var += std::pow(sum[b] / frames / mean - 1.0, 2);
+  const double sd = std::sqrt(var / (n_full - 1));  // relative noise of a whole bin
+  ASSERT_GT(n_full, 150);
+  EXPECT_LT(sd, 0.05);  // else the test could not see a bin a third covered
+  EXPECT_NEAR(mean, 0.05 / (std::numbers::pi / 4), 0.05 * mean);  // n = η / (π σ²/4), less the obstacle's disks
+  double worst = 0;
+  for (std::size_t b = 0; b < sum.size(); ++b) {
+    if (!f.mask[b]) continue;
+    const double a = open->field.values[b];
+    if (a < 1.0) ++n_cut;
+    const double z = (sum[b] / frames / mean - 1.0) / (sd / std::sqrt(a));
+    worst = std::max(worst, std::abs(z));
+    EXPECT_LT(std::abs(z), 4.5) << "bin " << b << " (open " << a << ") reads " << sum[b] / frames << ", mean " << mean;
+  }
+  EXPECT_GE(n_cut, 12);
+  std::printf("  %d full bins: noise %.3f; %d cut bins; largest |z| %.2f\n", n_full, sd, n_cut, worst);
+}
+
+TEST(EdFields, FrameZeroSaysWhenFieldsComeAndTheBarsNameTheirQuantities) {
+  // Before the first exposure is over there are no fields: the panels say when they come
+  // (not "no density field" three times). Then the bars name the mean speed <|v|>
+  // (thermal motion included; the streamline panels draw |<v>| of the mean velocity,
+  // which the snapshot carries apart) and the density's unit.
+  const Scene sc = parse_scene(R"([run]
+engine = "ed"
+until = 4.0
+[system]
+box = [20.0, 20.0]
+area_fraction = 0.3
+kT = 0.02
+[sample]
+exposure = 2.5
+bins = [4, 4]
+)");
+  auto runner = find_engine("ed")->make_runner(sc);
+  render::Snapshot s;
+  runner->snapshot("uniform", s);
+  EXPECT_TRUE(s.fields.empty());
+  EXPECT_EQ(s.fields_pending, "fields from t = 2.5 (first exposure)");
+  while (runner->time() < 2.5) runner->advance_to(2.5);
+  runner->snapshot("uniform", s);
+  EXPECT_TRUE(s.fields_pending.empty()) << s.fields_pending;
+  ASSERT_NE(s.field("density"), nullptr);
+  EXPECT_EQ(s.field("density")->label, "n [σ⁻²]");
+  ASSERT_NE(s.field("speed"), nullptr);
+  EXPECT_EQ(s.field("speed")->label, "<|v|>");
+  ASSERT_NE(s.field("temperature"), nullptr);
+  EXPECT_EQ(s.field("temperature")->label, "kT");
+  ASSERT_TRUE(s.velocity.has_value());
+  // <|v|> ≥ |<v>| in every bin (the mean of lengths is at least the length of the mean,
+  // equal masses), and by far on the whole: the gas is at rest, its disks are not.
+  double mean_speed = 0, speed_of_mean = 0;
+  for (std::size_t b = 0; b < s.velocity->values.size(); ++b) {
+    EXPECT_GE(s.field("speed")->field.values[b], s.velocity->values[b].norm()) << b;
+    mean_speed += s.field("speed")->field.values[b];
+    speed_of_mean += s.velocity->values[b].norm();
+  }
+  EXPECT_GT(mean_speed, 2 * speed_of_mean);
 }
 
 TEST(EdFields, BinsAlongAHardWallAreNotDepleted) {

@@ -7,7 +7,7 @@ gf=$1 scenes=$2 out=$3 py=$4
 check="$(dirname "$0")/check_fields_vtk.py"
 quiet=(--set output.mp4=false --set output.png=false --set output.fields=true)
 rm -rf "$out" && mkdir -p "$out"
-"$gf" run "$scenes/obstacle_quick.toml" -o "$out/ed" --set run.until=4 --set sample.exposure=1 \
+"$gf" run "$scenes/obstacle_quick.toml" -o "$out/ed" --set run.until=4 --set sample.exposure=1 --set 'sample.bins=[40,20]' \
   --set output.checkpoint_every=2 "${quiet[@]}" >/dev/null 2>&1
 touch "$out/ed/fields/frame_000099.vti"   # not the run's: a stale frame the resume must drop
 "$gf" run --resume "$out/ed" --set run.until=7 >/dev/null 2>&1

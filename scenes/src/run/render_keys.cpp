@@ -70,6 +70,10 @@ void declare(Schema& s, std::vector<std::string> colour_attributes) {
                  "\"frame\" takes each frame's own 2nd–98th percentiles");
   table.add_enum(filter, {"bilinear", "nearest"}, "bilinear",
                  "how maps colour between bin centres: interpolated, or each bin one flat colour (shows the bins)");
+  table.add_enum(streamlines_frame, {"obstacle", "stream"}, "obstacle",
+                 "frame of the streamline and velocity panels: \"obstacle\" draws the mean velocity <v>, "
+                 "\"stream\" draws <v> − U, the flow seen moving with the stream (its wake eddies; the "
+                 "obstacle's frame where the scene has no stream velocity)");
   auto& fixed = s.optional_table("render.ranges", "fixed colour ranges [lo, hi] of map panels, by panel name");
   for (std::string_view name : ranged_panels())
     fixed.add_float_array(panel_range(name), {0.0, 1.0}, {"lo", "hi"},
@@ -99,6 +103,10 @@ void declare(Schema& s, std::vector<std::string> colour_attributes) {
         c.fail(panel_range(name).path, "render.ranges." + std::string(name) + " is given but render.panels has no " +
                                            std::string(name) + " panel; allowed: ranges of the panels drawn");
     }
+    if (sc.get(streamlines_frame) == "stream" &&
+        std::none_of(names.begin(), names.end(), [](const std::string& n) { return n == "streamlines" || n == "velocity"; }))
+      c.fail(streamlines_frame.path, "render.streamlines_frame = \"stream\" but render.panels has no streamlines or "
+                                     "velocity panel; allowed: \"obstacle\", or add such a panel");
     const int samples = sc.get(msaa);
     if (samples != 0 && (samples & (samples - 1)) != 0)
       c.fail(msaa.path, "render.msaa = " + std::to_string(samples) + " is not allowed; allowed: 0, 1, 2, 4, 8, 16");

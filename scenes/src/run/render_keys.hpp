@@ -28,6 +28,10 @@ inline constexpr TableKey ranges{"render.ranges"};
 // How a map colours between bin centres: "bilinear" (default) or "nearest" (each bin one
 // flat colour).
 inline constexpr Key<std::string> filter{"render.filter"};
+// The frame the streamline and velocity panels see the flow in: "obstacle" (default, the
+// mean velocity <v> as it is) or "stream" (<v> − U, moving with the stream's velocity U;
+// the obstacle's frame where the scene has no stream).
+inline constexpr Key<std::string> streamlines_frame{"render.streamlines_frame"};
 // render.ranges.<panel> = [lo, hi]: a fixed range for the panel of that name (the map
 // panels of the panel table: density, temperature, speed, streamlines, …).
 Key<std::array<double, 2>> panel_range(std::string_view panel);

@@ -93,7 +93,11 @@ public:
         fit_grid_(!scene.has(render_keys::layout)) {
     const auto map_filter = scene.get(render_keys::filter) == "nearest" ? render::FieldFilter::nearest
                                                                         : render::FieldFilter::bilinear;
-    for (auto& p : layout_.panels) p.filter = map_filter;
+    const bool with_stream = scene.get(render_keys::streamlines_frame) == "stream";
+    for (auto& p : layout_.panels) {
+      p.filter = map_filter;
+      p.streamlines.relative_to_reference = with_stream;
+    }
     // render.ranges.<panel>: fixed from the start (validation refused ranges of panels
     // that are not drawn).
     for (std::string_view ranged : render_keys::ranged_panels())
