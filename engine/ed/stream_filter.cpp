@@ -12,10 +12,7 @@
 namespace grainflow::ed {
 
 StreamFilter::StreamFilter(const FilterConfig& cfg)
-    : cfg_(cfg),
-      xf_(cfg.lx - cfg.distance),
-      flux_(cfg.U, cfg.kT, cfg.mass),
-      rng_(cfg.seed) {
+    : cfg_(cfg), xf_(cfg.lx - cfg.distance), flux_(cfg.U, cfg.kT, cfg.mass), rng_(cfg.seed) {
   if (!(cfg.distance > 0.0 && cfg.distance < cfg.lx))
     throw Error(fmt::format("ed filter: distance = {} is invalid; allowed: 0 < distance < Lx = {}", cfg.distance,
                             cfg.lx));

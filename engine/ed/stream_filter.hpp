@@ -3,7 +3,7 @@
 // outlet's probability F−/F+ and a velocity from the back-flux distribution (Eq. 3.15–3.18,
 // 3.28), or frozen: infinitely heavy at the stream velocity, removed when it reaches Lx.
 // The back flux is that of a stream at U and a temperature: the stream's kT (seed), or the
-// temperature of the disks now arriving (kind local), for a stream that cools on its way
+// temperature of the disks now arriving (local_kT), for a stream that cools on its way
 // (inelastic disks, seed ch. 5) and whose real continuation beyond the outlet is as cold.
 #pragma once
 #include <cstdint>
