@@ -1,5 +1,8 @@
 #include "engine/ed/dense_stream.hpp"
 
+#include <algorithm>
+#include <numbers>
+
 #include "engine/core/rng.hpp"
 
 #include <fmt/format.h>
@@ -42,6 +45,10 @@ DenseStream add_dense_stream(Simulation& sim, const DenseStreamConfig& cfg) {
   fc.kT = cfg.kT;
   fc.mass = mass;
   fc.delete_instead_of_freeze = cfg.delete_instead_of_freeze;
+  // One monolayer of the stream: the disks one dispenser cycle brings in.
+  const double window = std::max(1.0, cfg.area_fraction * 2.0 * radius * c.ly / (std::numbers::pi * radius * radius));
+  dc.local_kT = fc.local_kT = cfg.local_kT;
+  dc.window = fc.window = window;
   fc.seed = core::substream_seed(cfg.seed, 0x5151);
   auto piston = std::make_unique<DispenserPiston>(dc, sim.time(), c.ly, c.periodic_y);
   auto filter = std::make_unique<StreamFilter>(fc);

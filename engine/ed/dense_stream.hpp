@@ -15,6 +15,10 @@ struct DenseStreamConfig {
   double filter_distance = 3.0;   // x_f = Lx − filter_distance, more than a radius
   PistonKind piston = PistonKind::elastic;
   bool delete_instead_of_freeze = false;  // the leaking low-density outlet (Fig. 3.7), for tests
+  // The dispenser's new disks and the filter's back flux at the temperature of the disks
+  // meeting the piston / arriving at the filter (a running mean over one monolayer's worth
+  // of them) instead of kT: for streams that cool (inelastic disks, seed ch. 5).
+  bool local_kT = false;
   std::uint64_t seed = 1;         // dispenser uses seed, the filter a stream derived from it
 };
 

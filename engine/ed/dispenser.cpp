@@ -24,6 +24,8 @@ DispenserPiston::DispenserPiston(const DispenserConfig& cfg, double t0, double l
   // length L need η < π/4.
   if (!(cfg.area_fraction > 0.0 && cfg.area_fraction < std::numbers::pi / 4.0))
     bad("area_fraction", cfg.area_fraction, "0 < η < π/4 ≈ 0.785 (a monolayer must fit in the strip)");
+  if (cfg.local_kT && !(cfg.window >= 1.0 && std::isfinite(cfg.window))) bad("window", cfg.window, "a number of disks >= 1");
+  if (cfg.local_kT) arrivals_ = ArrivalTemperature(cfg.kT, cfg.mass, cfg.window);
   t_recharge_ = cfg.U > 0.0 ? t0 + strip_ / cfg.U : kNever;
 }
 
@@ -46,11 +48,12 @@ double DispenserPiston::event_time(const SystemState& s, int i) const {
 
 void DispenserPiston::action(SystemState& s, int i) {
   const Disk& d = s.disk[i];
+  if (cfg_.local_kT) arrivals_.observe(d.vy);
   double vx = 2.0 * cfg_.U - d.vx, vy = d.vy;  // specular in the piston frame
   if (cfg_.piston == PistonKind::thermal) {
     // Diffuse re-emission from a wall at the stream temperature moving at U [TTKB98]: the
     // flux-weighted normal speed has the Rayleigh density, the tangential one is Gaussian.
-    const double s2 = cfg_.kT / s.disk[i].m;
+    const double s2 = kT() / s.disk[i].m;
     vx = cfg_.U + std::sqrt(-2.0 * s2 * std::log(rng_.uniform_pos()));
     vy = std::sqrt(s2) * rng_.normal();
   }
@@ -78,7 +81,8 @@ void DispenserPiston::recharge(SystemState& s) {
     double sum = 0.0;
     for (double& g : gaps_) sum += (g = -std::log(rng_.uniform_pos()));
     double y = periodic_y_ ? rng_.uniform() * ly_ : cfg_.radius;
-    const double sd = std::sqrt(cfg_.kT / cfg_.mass);
+    const double kT = this->kT();
+    const double sd = std::sqrt(kT / cfg_.mass);
     const double inertia = cfg_.q * cfg_.mass * cfg_.radius * cfg_.radius;
     for (int n = 0; n < k; ++n) {
       y += gaps_[n] / sum * free;
@@ -86,7 +90,7 @@ void DispenserPiston::recharge(SystemState& s) {
       DiskInit in;
       in.r = {0.5 * strip_, std::clamp(y, 0.0, std::nextafter(ly_, 0.0))};
       in.v = {cfg_.U + sd * rng_.normal(), sd * rng_.normal()};
-      in.omega = cfg_.rotation ? std::sqrt(cfg_.kT / inertia) * rng_.normal() : 0.0;
+      in.omega = cfg_.rotation ? std::sqrt(kT / inertia) * rng_.normal() : 0.0;
       in.radius = cfg_.radius;
       in.mass = cfg_.mass;
       s.add_disk(in);
@@ -113,6 +117,10 @@ void DispenserPiston::save(io::ArchiveWriter& w) const {
   w.pod(hits_);
   w.pod(cycles_);
   w.pod(impulse_x_);
+  if (cfg_.local_kT) {
+    w.pod(arrivals_.mean_vy());
+    w.pod(arrivals_.mean_vy2());
+  }
 }
 
 void DispenserPiston::load(io::ArchiveReader& r) {
@@ -123,6 +131,12 @@ void DispenserPiston::load(io::ArchiveReader& r) {
   r.pod(hits_);
   r.pod(cycles_);
   r.pod(impulse_x_);
+  if (cfg_.local_kT) {
+    double mvy = 0.0, mvy2 = 0.0;
+    r.pod(mvy);
+    r.pod(mvy2);
+    arrivals_.restore(mvy, mvy2);
+  }
 }
 
 }  // namespace grainflow::ed

@@ -6,6 +6,7 @@
 #include <memory>
 
 #include "engine/core/rng.hpp"
+#include "engine/ed/arrival_temperature.hpp"
 #include "engine/ed/event_source.hpp"
 
 namespace grainflow::ed {
@@ -20,6 +21,11 @@ struct DispenserConfig {
   bool rotation = false;       // rough disks: new disks get ω from N(0, kT/I), I = q m R²
   double q = 0.5;
   PistonKind piston = PistonKind::elastic;
+  // New disks (and the thermal piston) at the temperature of the disks hitting the piston
+  // (ArrivalTemperature over `window` hits, starting from kT) instead of kT: the upstream
+  // stream cools as the simulated one does once the disks turn inelastic (seed ch. 5).
+  bool local_kT = false;
+  double window = 100.0;
   std::uint64_t seed = 1;
 };
 
@@ -43,6 +49,7 @@ public:
   std::uint64_t hits() const { return hits_; }
   double impulse_x() const { return impulse_x_; }       // momentum given to the disks along x
   std::uint64_t cycles() const { return cycles_; }
+  double kT() const { return cfg_.local_kT ? arrivals_.kT() : cfg_.kT; }  // of the disks it places now
 
 private:
   DispenserConfig cfg_;
@@ -56,6 +63,7 @@ private:
   std::vector<double> gaps_;
   std::uint64_t hits_ = 0, cycles_ = 0;
   double impulse_x_ = 0.0;
+  ArrivalTemperature arrivals_;  // local_kT
 };
 
 // The recharge timer (the second agent of a dispenser, §3.3): fires when the piston has

@@ -16,6 +16,9 @@ StreamFilter::StreamFilter(const FilterConfig& cfg)
   if (!(cfg.distance > 0.0 && cfg.distance < cfg.lx))
     throw Error(fmt::format("ed filter: distance = {} is invalid; allowed: 0 < distance < Lx = {}", cfg.distance,
                             cfg.lx));
+  if (cfg.local_kT && !(cfg.window >= 1.0 && std::isfinite(cfg.window)))
+    throw Error(fmt::format("ed filter: window = {} is invalid; allowed: a finite number of disks >= 1", cfg.window));
+  if (cfg.local_kT) arrivals_ = ArrivalTemperature(cfg.kT, cfg.mass, cfg.window);
 }
 
 void StreamFilter::cells(const CellGrid& g, std::vector<int>& out) const {
@@ -38,6 +41,12 @@ void StreamFilter::action(SystemState& s, int i) {
     s.remove_disk(i);
     return;
   }
+  if (cfg_.local_kT) {
+    arrivals_.observe(s.disk[i].vy);
+    const double kT = arrivals_.kT();
+    // A floor far below any temperature the TC model lets a stream reach keeps the flux finite.
+    if (kT > 1e-12 * cfg_.kT && std::abs(std::log(kT / flux_.kT())) > 0.02) flux_ = StreamFlux(cfg_.U, kT, cfg_.mass);
+  }
   if (rng_.uniform() < flux_.turn_back_probability()) {
     const Vec2 v = flux_.sample_backward(rng_);
     ++turned_;
@@ -50,17 +59,31 @@ void StreamFilter::action(SystemState& s, int i) {
   }
 }
 
-// Its random stream and counters; the plane and flux distribution are configuration.
+// Its random stream, counters and (local_kT) the arrivals' running means and the
+// temperature of the flux in use; the plane is configuration.
 void StreamFilter::save(io::ArchiveWriter& w) const {
   w.rng(rng_);
   w.pod(turned_);
   w.pod(frozen_);
+  if (cfg_.local_kT) {
+    w.pod(arrivals_.mean_vy());
+    w.pod(arrivals_.mean_vy2());
+    w.pod(flux_.kT());
+  }
 }
 
 void StreamFilter::load(io::ArchiveReader& r) {
   r.rng(rng_);
   r.pod(turned_);
   r.pod(frozen_);
+  if (cfg_.local_kT) {
+    double mvy = 0.0, mvy2 = 0.0, kT = 0.0;
+    r.pod(mvy);
+    r.pod(mvy2);
+    r.pod(kT);
+    arrivals_.restore(mvy, mvy2);
+    flux_ = StreamFlux(cfg_.U, kT, cfg_.mass);
+  }
 }
 
 }  // namespace grainflow::ed

@@ -194,6 +194,95 @@ TEST(DenseStream, DeletingAtTheFilterLeaks) {
   EXPECT_TRUE(std::abs(n_mean / r.n_expected - 1.0) > 0.02 || std::abs(n_drift) > 0.005);
 }
 
+// An inelastic stream (e = 0.9 with the TC model, seed ch. 5) cools within a few τ. With the
+// boundaries at the fixed stream temperature kT = 0.02, the dispenser keeps placing hot disks
+// whose pressure accelerates the cold stream beyond U, and the filter freezes it back at U and
+// turns back F−/F+ ≈ 17 % of it at kT = 0.02: a dense jam grows upstream from the outlet. With
+// local_kT the boundaries take the cooled stream's temperature and the stream stays uniform.
+struct CooledChannel {
+  double n_in, n_out, vx_in, vx_out;  // density / η-stream density and <vx>, inlet and outlet thirds
+  double kT_gas, kT_dispenser, kT_filter;
+};
+// Granular temperature of the mobile disks in x ∈ [a, b]: m|v − <v>|²/2 per disk (m = 1).
+double region_kT(ed::Simulation& sim, double a, double b) {
+  sim.synchronise();
+  double n = 0, vx = 0, vy = 0, v2 = 0;
+  for (int i = 0; i < sim.size(); ++i) {
+    if (!sim.present(i) || sim.state().frozen(i)) continue;
+    const auto& d = sim.disks()[i];
+    if (d.x < a || d.x > b) continue;
+    n += 1;
+    vx += d.vx;
+    vy += d.vy;
+    v2 += d.vx * d.vx + d.vy * d.vy;
+  }
+  return 0.5 * (v2 / n - (vx * vx + vy * vy) / (n * n));
+}
+
+CooledChannel run_cooled(bool local_kT) {
+  const double lx = 90, ly = 16, U = 0.1;
+  ed::Config c = channel(lx, ly, U, 21);
+  c.e = 0.9;
+  c.tau_tc = 1e-4;
+  c.tau_tc_step = 1e-5;
+  ed::Simulation sim(c);
+  ed::DenseStreamConfig dc;
+  dc.U = U;
+  dc.kT = 0.02;
+  dc.area_fraction = 0.65;
+  dc.local_kT = local_kT;
+  dc.seed = 9;
+  auto stream = ed::add_dense_stream(sim, dc);
+  const double n_stream = 0.65 / (std::numbers::pi * 0.25);
+  CooledChannel out{};
+  double kT = 0;
+  int samples = 0;
+  for (double t = 500; t <= 900; t += 20) {
+    sim.run_until(t);
+    const Sample in = measure(sim, 5, 30), o = measure(sim, 57, 82);
+    out.n_in += in.n / (25 * ly * n_stream);
+    out.n_out += o.n / (25 * ly * n_stream);
+    out.vx_in += in.vx;
+    out.vx_out += o.vx;
+    kT += region_kT(sim, 5, 82);
+    ++samples;
+  }
+  out.n_in /= samples;
+  out.n_out /= samples;
+  out.vx_in /= samples;
+  out.vx_out /= samples;
+  out.kT_gas = kT / samples;
+  out.kT_dispenser = stream.piston->kT();
+  out.kT_filter = stream.filter->kT();
+  std::printf("cooled stream, local_kT = %d: n/n_stream inlet %.3f outlet %.3f, <vx> inlet %.4f outlet %.4f; kT gas "
+              "%.2e, dispenser %.2e, filter %.2e; removed overlapping %llu\n",
+              int(local_kT), out.n_in, out.n_out, out.vx_in, out.vx_out, out.kT_gas, out.kT_dispenser, out.kT_filter,
+              (unsigned long long)sim.overlap_removals());
+  return out;
+}
+
+TEST(DenseStream, CooledStreamJamsAtFixedTemperatureBoundaries) {
+  const CooledChannel fixed = run_cooled(false);
+  // The jam: the outlet third denser than the inlet third by more than 20 %.
+  EXPECT_GT(fixed.n_out - fixed.n_in, 0.2);
+  EXPECT_EQ(fixed.kT_dispenser, 0.02);
+  EXPECT_EQ(fixed.kT_filter, 0.02);
+}
+
+TEST(DenseStream, LocalTemperatureBoundariesKeepACooledStreamUniform) {
+  const CooledChannel local = run_cooled(true);
+  // Measured (seed 21/9): n/n_stream 0.931 and 1.029, <vx> 0.106 and 0.105; fixed kT: 0.444
+  // and 1.352, 0.225 and 0.089.
+  EXPECT_NEAR(local.n_in, 1.0, 0.1);
+  EXPECT_NEAR(local.n_out, 1.0, 0.1);
+  EXPECT_NEAR(local.vx_in, 0.1, 0.01);
+  EXPECT_NEAR(local.vx_out, 0.1, 0.01);
+  // Both boundaries work at the cooled stream's temperature (within a factor 2), far below 0.02.
+  EXPECT_LT(local.kT_gas, 0.002);
+  EXPECT_NEAR(std::log(local.kT_dispenser / local.kT_gas), 0.0, std::log(2.0));
+  EXPECT_NEAR(std::log(local.kT_filter / local.kT_gas), 0.0, std::log(2.0));
+}
+
 TEST(Reorder, NextCollisionsAreTheSameUnderAnyNumbering) {
   // Renumbering brings every disk to the current time and predicts afresh; a run
   // renumbered at random and one renumbered in plain id order at the same moment must

@@ -45,6 +45,7 @@ inline constexpr Key<double> obstacle_r{"boundary.obstacle.r"};
 inline constexpr Key<std::string> stream_kind{"boundary.stream.kind"};
 inline constexpr Key<double> filter_distance{"boundary.stream.filter_distance"};
 inline constexpr Key<std::string> piston{"boundary.stream.piston"};
+inline constexpr Key<bool> stream_local_kT{"boundary.stream.local_kT"};
 
 // The box walls' surface and motion (agents/walls.cpp): planar Couette flow (seed 003 §4.2).
 inline constexpr TableKey walls{"boundary.walls"};

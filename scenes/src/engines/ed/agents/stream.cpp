@@ -37,6 +37,11 @@ void declare_keys(Schema& s) {
   stream.add_enum(piston, {"elastic", "thermal"}, "elastic",
                   "dispenser_filter: the inlet piston reflects disks specularly in its frame, or re-emits them at "
                   "system.kT (Fig. 3.9)");
+  stream.add_bool(stream_local_kT, false,
+                  "dispenser_filter: new disks (and the thermal piston) at the temperature of the disks hitting the "
+                  "piston, and the filter's back flux at that of the disks arriving at it (running means of m v_y² "
+                  "over one monolayer's worth of disks), instead of system.kT: for a stream that cools (inelastic "
+                  "disks, seed ch. 5), whose continuation beyond either boundary cools as well");
 
   s.add_check([](const Scene& sc, SceneCheck& c) {
     const auto L = sc.get(box);
@@ -87,7 +92,7 @@ public:
 
 class DenseStreamRun final : public EdAgentRun {
 public:
-  explicit DenseStreamRun(ed::DenseStream d) : dense_(d) {}
+  DenseStreamRun(ed::DenseStream d, bool local_kT) : dense_(d), local_kT_(local_kT) {}
   // Frozen disks beyond the filter are not sampled: no gas there.
   bool solid(const Vec2& p) const override { return dense_.filter && p.x() > dense_.filter->plane(); }
   // The piston sweeps its strip [0, s] at the stream speed and jumps back, so its position
@@ -95,6 +100,17 @@ public:
   double open_share(const Vec2& p, double radius) const override {
     if (!dense_.piston) return 1.0;
     return std::clamp((p.x() - radius) / dense_.piston->strip(), 0.0, 1.0);
+  }
+  // With local_kT: the temperatures the boundaries work at now.
+  std::vector<StatsColumn> stats_columns() const override {
+    if (!local_kT_) return {};
+    return {{"kT_dispenser", "E", "temperature of the disks the dispenser places now (boundary.stream.local_kT)"},
+            {"kT_filter", "E", "temperature of the filter's back flux now (boundary.stream.local_kT)"}};
+  }
+  void stats_row(double, std::vector<double>& row) override {
+    if (!local_kT_) return;
+    row.push_back(dense_.piston->kT());
+    row.push_back(dense_.filter->kT());
   }
   void draw(render::Snapshot& s) const override {
     const double ly = s.hi.y();
@@ -110,6 +126,7 @@ public:
 
 private:
   ed::DenseStream dense_;  // agents owned by the simulation
+  bool local_kT_;
 };
 
 std::unique_ptr<EdAgentRun> attach(const Scene& sc, ed::Simulation& sim) {
@@ -123,8 +140,9 @@ std::unique_ptr<EdAgentRun> attach(const Scene& sc, ed::Simulation& sim) {
     d.area_fraction = stream_area_fraction(sc, c);
     d.filter_distance = sc.get(filter_distance);
     d.piston = sc.get(piston) == "thermal" ? ed::PistonKind::thermal : ed::PistonKind::elastic;
+    d.local_kT = sc.get(stream_local_kT);
     d.seed = seed;
-    return std::make_unique<DenseStreamRun>(ed::add_dense_stream(sim, d));
+    return std::make_unique<DenseStreamRun>(ed::add_dense_stream(sim, d), d.local_kT);
   }
   if (kind == "low_density") {
     ed::LowDensityStreamConfig l;
