@@ -65,12 +65,13 @@ void CircularObstacle::set_restitution(double r) {
 }
 
 // Its random stream, the momentum and hits it has received (the drag measurement), and
-// its restitution (a phase may change it).
+// its restitution and surface (a phase may change them).
 void CircularObstacle::save(io::ArchiveWriter& w) const {
   w.rng(rng_);
   checkpoint::write_vec2(w, impulse_);
   w.pod(hits_);
   w.pod(cfg_.restitution);
+  w.pod(std::uint8_t(cfg_.boundary));
 }
 
 void CircularObstacle::load(io::ArchiveReader& r) {
@@ -80,6 +81,9 @@ void CircularObstacle::load(io::ArchiveReader& r) {
   const double e = r.get<double>();
   if (!(e >= 0.0 && e <= 1.0)) r.corrupt(fmt::format("the obstacle's restitution is {}", e));
   cfg_.restitution = e;
+  const auto b = r.get<std::uint8_t>();
+  if (b > std::uint8_t(ObstacleBoundary::flip)) r.corrupt(fmt::format("the obstacle's surface kind is {}", int(b)));
+  cfg_.boundary = ObstacleBoundary(b);
 }
 
 }  // namespace grainflow::ed

@@ -37,6 +37,9 @@ public:
   // The surface's restitution from now on (phased runs; [0, 1], else grainflow::Error).
   // No prediction depends on it. A checkpoint keeps it.
   void set_restitution(double r);
+  // The surface from now on (phased runs: the seed's dune run switches from thermal
+  // re-emission to the tangential flip). No prediction depends on it; a checkpoint keeps it.
+  void set_boundary(ObstacleBoundary b) { cfg_.boundary = b; }
   // Total momentum received from the disks since construction (drag = its rate).
   Vec2 impulse() const { return impulse_; }
   std::uint64_t hits() const { return hits_; }

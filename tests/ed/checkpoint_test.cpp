@@ -502,7 +502,7 @@ TEST(EdCheckpoint, ThermostatDualInTheDenseStream) { check_thermostat(ed::Thermo
 
 // ---- phased runs and moving walls --------------------------------------------------------
 // Couette walls (thermal, moving), a flip obstacle, the thermostat, and three phases: at
-// t = 10 inelastic (e, obstacle r) with the thermostat off, at t = 30 the thermostat on at
+// t = 10 inelastic (e, obstacle r, the thermal surface) with the thermostat off, at t = 30 the thermostat on at
 // another T. Saved between the phases or before the first, continued across them.
 namespace {
 
@@ -545,6 +545,7 @@ Builder phased_builder(PhasedHandles* ph) {
           if (k == 0) {
             s->set_restitution(0.9);
             o->set_restitution(0.8);
+            o->set_boundary(ed::ObstacleBoundary::thermal);  // the checkpoint keeps the surface
             th->set_active(false, st);
           } else {
             th->set_temperature(0.04);
@@ -566,6 +567,7 @@ void check_phased(double t1) {
   expect_restart_is_exact(r);
   EXPECT_EQ(bits(r.a->restitution()), bits(0.9));
   EXPECT_EQ(bits(r.hc.obstacle->config().restitution), bits(0.8));
+  EXPECT_EQ(r.hc.obstacle->config().boundary, ed::ObstacleBoundary::thermal);
   EXPECT_TRUE(r.hc.thermostat->active());
   EXPECT_EQ(bits(r.hc.thermostat->config().kT), bits(0.04));
   EXPECT_EQ(r.ha.thermostat->events(), r.hc.thermostat->events());

@@ -105,3 +105,32 @@ TEST(CircularObstacle, MustLieInsideTheBox) {
   o.radius = 3.0;
   EXPECT_THROW(sim.add_obstacle(o), grainflow::Error);
 }
+
+TEST(CircularObstacle, SurfaceSwitchedAtRunTimeActsFromThen) {
+  // Phased runs (seed 003 ch. 5: thermal no-slip first, then the flip): slip with r = 1
+  // conserves the energy, thermal re-emission at kT_b = 0.05 then heats the gas from 0.02
+  // towards kT_b, and the elastic flip conserves it again.
+  ed::Config c;
+  c.lx = c.ly = 16.0;
+  c.area_fraction = 0.2;
+  c.kT = 0.02;
+  ed::Simulation sim(c);
+  ed::ObstacleConfig o;
+  o.centre = {8.0, 8.0};
+  o.radius = 5.0;
+  o.kT = 0.05;
+  auto& obs = sim.add_obstacle(o);
+  const double e0 = sim.kinetic_energy();
+  sim.run_until(200.0);
+  EXPECT_GT(obs.hits(), 50u);
+  EXPECT_NEAR(sim.kinetic_energy() / e0, 1.0, 1e-9);
+  obs.set_boundary(ed::ObstacleBoundary::thermal);
+  sim.run_until(3000.0);
+  const double e1 = sim.kinetic_energy();
+  EXPECT_GT(e1 / e0, 0.05 / 0.02 * 0.8) << "the gas did not warm towards the thermal surface's kT";
+  const auto hits = obs.hits();
+  obs.set_boundary(ed::ObstacleBoundary::flip);
+  sim.run_until(3200.0);
+  EXPECT_GT(obs.hits(), hits + 50);
+  EXPECT_NEAR(sim.kinetic_energy() / e1, 1.0, 1e-9);
+}

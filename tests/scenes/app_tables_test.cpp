@@ -123,7 +123,7 @@ std::vector<Case> cases(const fs::path& dir) {
                        "[boundary.obstacle]\nD = 4.0\nx = 12.0\ny = 12.0\nkind = \"noslip_flip\"\n"
                        "[thermostat]\n"
                        "[[phase]]\nat = 0.0\nthermostat = false\n"
-                       "[[phase]]\nat = 0.5\nlabel = \"inelastic\"\ne = 0.9\nobstacle_r = 0.8\n"
+                       "[[phase]]\nat = 0.5\nlabel = \"inelastic\"\ne = 0.9\nobstacle_r = 0.8\nobstacle_kind = \"slip\"\n"
                        "thermostat = true\nthermostat_T = 1.5\n",
        {"system.area_fraction=0.3", "boundary.periodic=[true, false]", "system.tau_tc=1e-4", "output.png=false",
         "output.mp4=false"}},
@@ -146,6 +146,12 @@ std::vector<Case> cases(const fs::path& dir) {
                        "[study]\nkind = \"sound_speed\"\nfit_span = 18.0\nhenderson_tolerance = 10.0\n",
        {"system.area_fraction=0.3", "boundary.periodic=[true, false]", "run.until=20.0", "output.stats_every=0.2",
         "output.png=false", "output.mp4=false"}},
+      // The couette study (two exposures after skip = 0) and the drag study.
+      {kEd + kRender + "[boundary.walls]\nkind = \"noslip_thermal\"\nU = [-0.5, 0.5]\n"
+                       "[study]\nkind = \"couette\"\nskip = 0.0\nbulk_fraction = 0.5\n",
+       {"system.area_fraction=0.3", "boundary.periodic=[true, false]", "output.png=false", "output.mp4=false"}},
+      {kEd + kRender + "[boundary.obstacle]\nD = 4.0\nx = 12.0\ny = 12.0\n[study]\nkind = \"drag\"\ntransient = 0.5\n",
+       {"system.N=60", "system.U=0.5", "output.stats_every=0.05", "output.png=false", "output.mp4=false"}},
       {kDem + kRender, {"system.initial.kind=\"lattice\"", "output.particles=true", "output.fields=true", "render.color_by=\"group\"",
                         "render.layout=[2, 1]", "render.panels=[\"density\", \"temperature\"]",
                         "render.ranges.density=[0.0, 1.0]"}},

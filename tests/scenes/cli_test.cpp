@@ -847,6 +847,7 @@ obstacle_r = 0.9
 at = 70.0
 thermostat = true
 thermostat_T = 0.03
+obstacle_kind = "noslip_thermal"
 [[phase]]
 at = 95.0
 e = 1.0
@@ -862,7 +863,7 @@ size = [160, 120]
   std::istringstream csv(read_file(fs::path(GRAINFLOW_TEST_OUT) / "cli" / "resume_phases_killed" / "stats.csv"));
   std::string header, line;
   std::getline(csv, header);
-  ASSERT_TRUE(contains(header, ",phase,e,obstacle_r,thermostat_on,thermostat_T,")) << header;
+  ASSERT_TRUE(contains(header, ",phase,e,obstacle_r,obstacle_kind,thermostat_on,thermostat_T,")) << header;
   auto field = [](const std::string& row, std::size_t k) {
     std::size_t b = 0;
     for (std::size_t i = 0; i < k; ++i) b = row.find(',', b) + 1;
@@ -872,11 +873,12 @@ size = [160, 120]
   std::map<std::string, std::string> at;
   while (std::getline(csv, line)) {
     std::string v;
-    for (std::size_t k = 0; k < 5; ++k) v += field(line, phase_col + k) + " ";
+    for (std::size_t k = 0; k < 6; ++k) v += field(line, phase_col + k) + " ";
     at[field(line, 0)] = v;
   }
-  EXPECT_EQ(at["32"], "2 0.9 0.9 0 0.02 ");
-  EXPECT_EQ(at["120"], "4 1 0.9 1 0.03 ");
+  // obstacle_kind: 2 the flip of the scene, 1 the thermal surface phase 3 switches to.
+  EXPECT_EQ(at["32"], "2 0.9 0.9 2 0 0.02 ");
+  EXPECT_EQ(at["120"], "4 1 0.9 1 1 0.03 ");
 }
 
 TEST(CliRun, InterruptedDemBedResumesToTheSameBits) {
@@ -1273,6 +1275,25 @@ TEST(CliStudy, HaffCoolingWritesItsResultAndResumesToTheSameNumbers) {
   r = run(common + "--set run.until=0.1 --force -o " + direct.string());
   EXPECT_NE(r.status, 0);  // two stats rows cannot be fitted: says so
   EXPECT_TRUE(contains(r.output, "haff_cooling study")) << r.output;
+}
+
+// The shipped Couette study scene, scaled down (24 × 24, U = ∓0.2, blocks of 100 τ after
+// 300 τ): a run stopped part-way (its exposures' profiles are in the checkpoint) and resumed
+// writes the same study.csv as the run straight through.
+TEST(CliStudy, CouetteStudyResumesToTheSameNumbers) {
+  const fs::path direct = fresh_dir("couette_direct"), stopped = fresh_dir("couette_stopped");
+  const std::string common = "run " + scenes + "/studies/couette.toml --set system.box=[24.0,24.0] "
+                             "--set system.area_fraction=0.5 --set \"boundary.walls.U=[-0.2, 0.2]\" "
+                             "--set run.until=700 --set sample.exposure=100 --set output.stats_every=50 "
+                             "--set sample.bins=[2,8] --set study.skip=300 --set output.checkpoint_every=100 ";
+  Result r = run(common + "-o " + direct.string());
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_TRUE(contains(read_file(direct / "study.json"), "\"study\": \"couette\"")) << r.output;
+  r = run(common + "--set run.max_steps=175000 -o " + stopped.string());
+  EXPECT_EQ(r.status, 130) << r.output;
+  r = run("run --resume " + stopped.string() + " --set run.max_steps=0");
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_EQ(read_file(stopped / "study.csv"), read_file(direct / "study.csv"));
 }
 
 TEST(CliStudy, StudyKeysAreCheckedBeforeTheFolderExists) {

@@ -1,21 +1,29 @@
-// The planar Couette measurement (scenes/src/studies/couette.hpp): an exact linear
-// profile gives ν exactly; noisy blocks give ν within its stated error about as often as a
-// standard error should (≈ 68 %); what cannot be measured is refused; a small scene run
-// end to end gives a positive viscosity from a profile that rises from wall to wall.
+// The planar Couette measurement (scenes/src/studies/couette.hpp) and its study
+// ([study] kind = "couette"): an exact linear profile gives ν exactly; noisy blocks give ν
+// within its stated error about as often as a standard error should (≈ 68 %); what cannot
+// be measured is refused; a small scene run end to end writes a viscosity in a loose band.
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <numbers>
+#include <sstream>
 #include <string>
 #include <vector>
 
 #include "engine/core/error.hpp"
 #include "engine/core/rng.hpp"
+#include "scenes/src/run/run_loop.hpp"
 #include "scenes/src/run/scene_catalog.hpp"
 #include "scenes/src/scene/scene.hpp"
+#include "scenes/src/scene/scene_error.hpp"
 #include "scenes/src/studies/couette.hpp"
+#include "tests/scenes/study_csv.hpp"
 
 using namespace grainflow::scenes;
-using namespace grainflow::scenes::studies;
+namespace fs = std::filesystem;
 
 namespace {
 
@@ -87,8 +95,14 @@ TEST(CouetteStudy, RefusesWhatCannotBeMeasured) {
   EXPECT_THROW(analyse_couette(resting), grainflow::Error);
 }
 
+// A small channel run end to end as a [study] kind = "couette" scene: study.csv gives a
+// positive viscosity in a loose band around the seed's (short, small, sheared hard:
+// U = ∓0.2 over 24 σ), both walls' stresses positive and equal within errors, and the
+// bulk density of the scene's area fraction; study.png is the profile.
 TEST(CouetteStudy, ASmallChannelRunEndToEnd) {
-  const std::string text = R"([run]
+  const fs::path dir = fs::path(GRAINFLOW_TEST_OUT) / "couette_study" / "small";
+  fs::remove_all(dir);
+  const Scene sc = parse_scene(R"([run]
 engine = "ed"
 until = 900.0
 seed = 2
@@ -104,24 +118,67 @@ U = [-0.2, 0.2]
 [sample]
 exposure = 100.0
 bins = [2, 8]
-)";
-  const Scene sc = parse_scene(text, "couette.toml");
-  CouetteRun run;
-  run.skip = 300.0;
-  run.progress = false;
-  const CouetteInput in = measure_couette(sc, run);
-  ASSERT_EQ(in.blocks.size(), 6u);
-  ASSERT_EQ(in.y.size(), 8u);
-  const CouetteResult r = analyse_couette(in);
-  EXPECT_GT(r.nu.value, 0.1);
-  EXPECT_LT(r.nu.value, 3.0);
-  EXPECT_GT(r.nu.error, 0.0);
-  EXPECT_LT(r.profile.front(), -0.05);
-  EXPECT_GT(r.profile.back(), 0.05);
-  EXPECT_GT(r.stress_low.value, 0.0);
-  EXPECT_GT(r.stress_high.value, 0.0);
-  EXPECT_NEAR(r.density.value, 0.5 / (3.14159265 / 4), 0.1);
-  // Without walls in y there is nothing to measure.
-  const Scene box = parse_scene("[run]\nengine = \"ed\"\nuntil = 10.0\n[system]\narea_fraction = 0.3\nbox = [20.0, 20.0]\n");
-  EXPECT_THROW(measure_couette(box, run), grainflow::Error);
+[output]
+png = false
+mp4 = false
+stats_every = 50.0
+[study]
+kind = "couette"
+skip = 300.0
+)",
+                               "couette.toml");
+  RunOptions opt;
+  opt.dir = dir;
+  opt.name = "couette";
+  opt.quiet = true;
+  ASSERT_EQ(run_scene(sc, opt), 0);
+  auto v = grainflow::scenes::test::study_csv_values(dir / "study.csv");
+  std::printf("small channel: nu = %.4f ± %.4f, stress = %.4g ± %.2g, du/dy = %.4g ± %.2g\n", v["nu"], v["nu_err"],
+              v["stress"], v["stress_err"], v["gradient"], v["gradient_err"]);
+  EXPECT_EQ(v["blocks"], 6.0);  // exposures [300, 400] … [800, 900]
+  EXPECT_EQ(v["bulk_bins"], 4.0);
+  EXPECT_GT(v["nu"], 0.2);
+  EXPECT_LT(v["nu"], 2.0);
+  EXPECT_GT(v["nu_err"], 0.0);
+  EXPECT_LT(v["nu_err"], 0.5 * v["nu"]);
+  EXPECT_GT(v["gradient"], 0.0);
+  EXPECT_GT(v["stress_low"], 0.0);
+  EXPECT_GT(v["stress_high"], 0.0);
+  EXPECT_NEAR(v["density"], 0.5 / (std::numbers::pi / 4), 0.1);
+  EXPECT_EQ(v["U_high"], 0.2);
+  EXPECT_TRUE(fs::exists(dir / "study.png"));
+  const std::string json = [&] {
+    std::ifstream in(dir / "study.json");
+    std::stringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
+  }();
+  EXPECT_NE(json.find("\"study\": \"couette\""), std::string::npos) << json;
+}
+
+TEST(CouetteStudy, SceneChecks) {
+  auto refused = [](const std::string& text) {
+    try {
+      parse_scene(text, "couette.toml", {});
+    } catch (const SceneError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  const std::string base = "[run]\nengine = \"ed\"\nuntil = 1000.0\n[system]\nbox = [20.0, 20.0]\narea_fraction = 0.5\n"
+                           "[sample]\nexposure = 100.0\n";
+  const std::string walls = "[boundary]\nperiodic = [true, false]\n[boundary.walls]\nkind = \"noslip_thermal\"\n"
+                            "U = [-0.1, 0.1]\n";
+  const std::string study = "[study]\nkind = \"couette\"\nskip = 200.0\n";
+  EXPECT_EQ(refused(base + walls + study), "");
+  EXPECT_NE(refused(base + study).find("walls in y, periodic in x"), std::string::npos);
+  EXPECT_NE(refused(base + "[boundary]\nperiodic = [true, false]\n" + study).find("moving at different speeds"),
+            std::string::npos);
+  EXPECT_NE(refused(base + walls + study + "[output]\nstats_every = 30.0\n").find("output.stats_every"),
+            std::string::npos);
+  EXPECT_EQ(refused(base + walls + study + "[output]\nstats_every = 25.0\n"), "");
+  EXPECT_NE(refused(base + walls + "[study]\nkind = \"couette\"\nskip = 900.0\n").find("fewer than 2 exposures"),
+            std::string::npos);
+  EXPECT_NE(refused(base + walls + study + "early = 0.1\n").find("haff_cooling study"), std::string::npos);
+  EXPECT_NE(refused(base + walls + "[study]\nkind = \"drag\"\nskip = 100.0\n").find("couette study"), std::string::npos);
 }

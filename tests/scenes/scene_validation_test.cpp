@@ -411,6 +411,54 @@ TEST(SceneValidation, PhasesAreValidated) {
   }
 }
 
+// The obstacle's surface in a phase (seed 003 ch. 5: elastic with the thermal no-slip
+// obstacle, then the tangential flip), and the restitution that only slip and flip use.
+TEST(SceneValidation, ObstacleKindPhasesAndUnusedRestitution) {
+  const std::string thermal = std::string(kPhased) + "[boundary.obstacle]\nx = 20.0\ny = 20.0\nD = 8.0\n"
+                                                     "kind = \"noslip_thermal\"\n";
+  // A static r the thermal surface never uses is refused, naming the key.
+  {
+    const auto i = only_issue(thermal + "r = 0.97\n");
+    EXPECT_EQ(i.key, "boundary.obstacle.r");
+    EXPECT_EQ(i.location, "t.toml:15:5");
+    EXPECT_NE(i.message.find("boundary.obstacle.r = 0.97 is not used by boundary.obstacle.kind = \"noslip_thermal\""),
+              std::string::npos) << i.message;
+  }
+  // ... but it is used once a phase switches to the flip (the seed's dune protocol).
+  EXPECT_TRUE(issues_of(thermal + "r = 0.97\n[[phase]]\nat = 20.0\nobstacle_kind = \"noslip_flip\"\n").empty());
+  // A phase's r is used when a later phase switches the surface before another r ...
+  EXPECT_TRUE(issues_of(thermal + "[[phase]]\nat = 20.0\nobstacle_r = 0.9\n[[phase]]\nat = 30.0\n"
+                                  "obstacle_kind = \"slip\"\n").empty());
+  // ... and not when a later r replaces it first, nor when the switch goes back to thermal before it.
+  {
+    const auto i = only_issue(thermal + "[[phase]]\nat = 20.0\nobstacle_r = 0.9\n[[phase]]\nat = 30.0\n"
+                                        "obstacle_r = 0.8\nobstacle_kind = \"slip\"\n");
+    EXPECT_EQ(i.key, "phase[1].obstacle_r");
+  }
+  {
+    const auto i = only_issue(thermal + "r = 0.9\n[[phase]]\nat = 20.0\nobstacle_kind = \"noslip_flip\"\n"
+                                        "obstacle_r = 0.8\n");
+    EXPECT_EQ(i.key, "boundary.obstacle.r");
+  }
+  // A phase may switch only an obstacle that exists, and to another surface.
+  {
+    const auto i = only_issue(std::string(kPhased) + "[[phase]]\nat = 20.0\nobstacle_kind = \"noslip_flip\"\n");
+    EXPECT_EQ(i.key, "phase[1].obstacle_kind");
+    EXPECT_NE(i.message.find("needs an obstacle"), std::string::npos) << i.message;
+  }
+  {
+    const auto i = only_issue(thermal + "[[phase]]\nat = 20.0\nobstacle_kind = \"noslip_thermal\"\n");
+    EXPECT_EQ(i.key, "phase[1].obstacle_kind");
+    EXPECT_NE(i.message.find("the surface already in effect"), std::string::npos) << i.message;
+  }
+  {
+    const auto i = only_issue(thermal + "[[phase]]\nat = 20.0\nobstacle_kind = \"sticky\"\n");
+    EXPECT_EQ(i.key, "phase[1].obstacle_kind");
+  }
+  // A phase with only obstacle_kind changes something.
+  EXPECT_TRUE(issues_of(thermal + "[[phase]]\nat = 20.0\nobstacle_kind = \"slip\"\n").empty());
+}
+
 TEST(SceneValidation, WallsAreValidated) {
   const std::string walls = std::string(kMinimalEd) + "[boundary.walls]\nkind = \"noslip_thermal\"\nU = [-0.1, 0.1]\n";
   {

@@ -20,6 +20,7 @@
 #include "scenes/src/run/scene_catalog.hpp"
 #include "scenes/src/scene/scene.hpp"
 #include "scenes/src/studies/sound_speed.hpp"
+#include "tests/scenes/study_csv.hpp"
 
 namespace fs = std::filesystem;
 using namespace grainflow::scenes;
@@ -35,18 +36,6 @@ void signal(double a, double gamma, double omega, double phi, double t0, double 
     t.push_back(t0 + dt * i);
     y.push_back(a * std::exp(-gamma * t.back()) * std::cos(omega * t.back() + phi) + (rng ? noise * rng->normal() : 0.0));
   }
-}
-
-// The values of study.csv (one header, one row) by name.
-std::map<std::string, double> csv_values(const fs::path& path) {
-  std::ifstream in(path);
-  std::string header, row;
-  std::getline(in, header);
-  std::getline(in, row);
-  std::stringstream h(header), r(row);
-  std::map<std::string, double> out;
-  for (std::string name, value; std::getline(h, name, ',') && std::getline(r, value, ',');) out[name] = std::stod(value);
-  return out;
 }
 
 }  // namespace
@@ -146,7 +135,7 @@ henderson_tolerance = 0.15
   opt.name = "wave";
   opt.quiet = true;
   ASSERT_EQ(run_scene(s, opt), 0);
-  auto v = csv_values(dir / "study.csv");
+  auto v = grainflow::scenes::test::study_csv_values(dir / "study.csv");
   const double c_h = v["c_henderson"];
   EXPECT_NEAR(c_h, 1.5181, 1e-3);
   for (const char* c : {"c1", "c2"}) {

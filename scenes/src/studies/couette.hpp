@@ -7,21 +7,17 @@
 // from the walls' slip (Knudsen) layers. Newton's law σ_xy = ρ ν du_x/dy gives ν.
 //
 // analyse_couette() is the measurement: time blocks (each an exposure of the field
-// sampler and the stats window over the same interval) → the stress, the bulk gradient
+// sampler and the stats rows over the same interval) → the stress, the bulk gradient
 // (least-squares slope of each block's profile over the bulk bins), the bulk mass density,
 // and ν = σ̄ / (ρ̄ ḡ) with its standard error from the block-to-block scatter (delta
 // method with the covariances of the three block means; blocks much longer than the
-// stress correlation time are independent). measure_couette() runs a scene and feeds it.
+// stress correlation time are independent). The `[study] kind = "couette"` of a scene
+// (couette.cpp) gathers the blocks from its run and writes the result.
 #pragma once
 #include <cstddef>
-#include <string>
 #include <vector>
 
 namespace grainflow::scenes {
-class Scene;
-}
-
-namespace grainflow::scenes::studies {
 
 struct CouetteBlock {
   std::vector<double> ux;       // mean x velocity of each y bin (NaN: empty bin)
@@ -55,25 +51,11 @@ struct CouetteResult {
   Estimate eta;          // shear viscosity ρν = σ/(du/dy), m/τ
   std::size_t blocks = 0, bulk_bins = 0;
   std::vector<double> profile, profile_error;  // u_x(y) over all blocks, per bin
+  double bulk_y = 0.0, bulk_u = 0.0;  // the bulk bins' mean y and mean u_x: the fit line's centre
 };
 
 // Throws grainflow::Error with what is wrong: fewer than 2 blocks, blocks of another size
 // than y, fewer than 2 bulk bins, a bulk bin empty in a block, a zero mean gradient.
 CouetteResult analyse_couette(const CouetteInput& in);
 
-struct CouetteRun {
-  double skip = 0.0;          // simulated time before the first block (the flow develops)
-  double bulk_fraction = 0.5;  // the middle fraction of Ly taken as the bulk
-  bool progress = true;        // one line on stderr per block
-};
-
-// Runs an ED scene with walls in y (boundary.periodic = [true, false], [boundary.walls])
-// to run.until; every exposure (sample.exposure) after `skip` is one block: the x-averaged
-// profile of the sampler's fields over sample.bins, the wall forces of the stats window
-// over the same exposure. Throws grainflow::Error for a scene without walls in y.
-CouetteInput measure_couette(const Scene& scene, const CouetteRun& run);
-
-// The result as text: one "key = value ± error" line per estimate, then the profile.
-std::string couette_report(const CouetteInput& in, const CouetteResult& r);
-
-}  // namespace grainflow::scenes::studies
+}  // namespace grainflow::scenes

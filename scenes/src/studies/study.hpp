@@ -1,6 +1,7 @@
 // Studies (issue 13, item 6): a scene with a [study] section measures something from its
-// own run — Haff's cooling law, the thermostat temperature that holds a kT, later Couette
-// viscosity — and writes the result and a plot into its run folder:
+// own run — Haff's cooling law, the thermostat temperature that holds a kT, the speed of
+// sound, the Couette viscosity, the drag on the obstacle — and writes the result and a
+// plot into its run folder:
 //   DIR/study.json  {"study": kind, "run_status": …, "values": {name: {value, error, unit, …}},
 //                    "checks": [{name, passed, detail}], "notes": [...]}
 //   DIR/study.csv   the values as one CSV row (NAME, NAME_err): a sweep's runs are the rows
@@ -116,5 +117,21 @@ struct MeanError {
   double mean = 0, error = kNoError;
 };
 MeanError block_mean(std::span<const double> x, int blocks = 8);
+
+// Block averaging with the block length chosen from the series itself (the drag study,
+// seed 003 Fig. 4.19). The rule: τ_int = 1/2 + Σ_{k=1..M} ρ_k, the integrated
+// autocorrelation time in rows, with Sokal's window (the smallest M ≥ 5 τ_int(M)); blocks
+// of L = ⌈20 τ_int⌉ rows, so that the block means are nearly independent (for an AR(1)
+// series the variance of an L-row block mean falls short of its long-block value by
+// ≈ τ_int/L: 5 % in the variance, 2.5 % in the error); error = the block means' standard
+// deviation / √blocks. With fewer than `min_blocks` such blocks the series is cut into
+// `min_blocks` shorter ones and `long_enough` is false: the error is then likely low.
+struct BlockAverage {
+  double mean = 0, error = kNoError;
+  double tau_int = 0;         // rows
+  std::size_t block_rows = 0, blocks = 0;
+  bool long_enough = false;   // blocks of at least 20 τ_int rows
+};
+BlockAverage block_average(std::span<const double> x, int min_blocks = 8);
 
 }  // namespace grainflow::scenes

@@ -20,9 +20,12 @@ namespace grainflow::scenes {
 StudyEntry haff_cooling_study();
 StudyEntry thermostat_hold_study();
 StudyEntry sound_speed_study();
+StudyEntry couette_study();
+StudyEntry drag_study();
 
 std::span<const StudyEntry> studies() {
-  static const std::array<StudyEntry, 3> table = {haff_cooling_study(), thermostat_hold_study(), sound_speed_study()};
+  static const std::array<StudyEntry, 5> table = {haff_cooling_study(), thermostat_hold_study(), sound_speed_study(),
+                                                  couette_study(), drag_study()};
   return table;
 }
 
@@ -219,6 +222,60 @@ MeanError block_mean(std::span<const double> x, int blocks) {
   var /= double(means.size() - 1);
   m.error = std::sqrt(var / double(means.size()));
   return m;
+}
+
+namespace {
+
+// Mean and standard error of the first blocks·rows values of x in `blocks` blocks of `rows`.
+MeanError blocks_of(std::span<const double> x, std::size_t rows, std::size_t blocks) {
+  std::vector<double> means(blocks, 0.0);
+  for (std::size_t b = 0; b < blocks; ++b) {
+    for (std::size_t i = b * rows; i < (b + 1) * rows; ++i) means[b] += x[i];
+    means[b] /= double(rows);
+  }
+  double m = 0;
+  for (double v : means) m += v;
+  m /= double(blocks);
+  double var = 0;
+  for (double v : means) var += (v - m) * (v - m);
+  var /= double(blocks - 1);
+  return {m, std::sqrt(var / double(blocks))};
+}
+
+}  // namespace
+
+BlockAverage block_average(std::span<const double> x, int min_blocks) {
+  BlockAverage a;
+  const std::size_t n = x.size();
+  const std::size_t want = std::size_t(std::max(min_blocks, 2));
+  if (n == 0) return {std::nan(""), kNoError};
+  double mean = 0;
+  for (double v : x) mean += v;
+  mean /= double(n);
+  a.mean = mean;
+  if (n < 2 * want) return a;
+  double c0 = 0;
+  for (double v : x) c0 += (v - mean) * (v - mean);
+  c0 /= double(n);
+  a.tau_int = 0.5;
+  if (c0 > 0)
+    for (std::size_t k = 1; k < n / 2; ++k) {
+      double ck = 0;
+      for (std::size_t i = 0; i + k < n; ++i) ck += (x[i] - mean) * (x[i + k] - mean);
+      a.tau_int += ck / double(n) / c0;
+      if (double(k) >= 5 * a.tau_int) break;  // Sokal's window: beyond it the sum is noise
+    }
+  a.tau_int = std::max(a.tau_int, 0.5);  // anticorrelated noise: blocks of single rows are honest enough
+  std::size_t rows = std::size_t(std::ceil(20 * a.tau_int));
+  a.long_enough = n / rows >= want;
+  if (!a.long_enough) rows = n / want;
+  a.block_rows = rows;
+  a.blocks = n / rows;
+  // The blocks' mean is the mean of the rows they cover (the last n mod L rows are left out).
+  const MeanError m = blocks_of(x, rows, a.blocks);
+  a.mean = m.mean;
+  a.error = m.error;
+  return a;
 }
 
 }  // namespace grainflow::scenes

@@ -20,6 +20,7 @@
 
 namespace grainflow::ed {
 class Simulation;
+enum class ObstacleBoundary;
 }
 namespace grainflow::io {
 class ArchiveWriter;
@@ -65,5 +66,10 @@ struct EdAgentEntry {
 };
 
 std::span<const EdAgentEntry> ed_agents();
+
+// The obstacle surface a scene names (boundary.obstacle.kind, phase.obstacle_kind: "slip",
+// "noslip_thermal", "noslip_flip") and back; agents/obstacle.cpp.
+ed::ObstacleBoundary obstacle_boundary(std::string_view kind);
+std::string_view obstacle_kind_name(ed::ObstacleBoundary b);
 
 }  // namespace grainflow::scenes

@@ -1,5 +1,6 @@
 // Declarations of the ED engine's keys (ed_keys.hpp): type, default, range, doc, unit, and
 // the rules that involve several keys. ed_runner.cpp reads them through the same handles.
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <limits>
@@ -29,6 +30,23 @@ double requested_area_fraction(const Scene& sc) {
   if (sc.has(n)) return sc.get(n) * std::numbers::pi / 4;
   if (sc.has(N)) return double(sc.get(N)) * std::numbers::pi / 4 / (L[0] * L[1]);
   return 0.0;
+}
+
+std::string obstacle_kind_at(const Scene& sc, std::size_t k) {
+  const std::size_t n = sc.count(phase);
+  for (std::size_t j = std::min(k == std::size_t(-1) ? 0 : k + 1, n); j-- > 0;)
+    if (sc.has("phase[" + std::to_string(j) + "].obstacle_kind")) return sc.get(phase_obstacle_kind, j);
+  return sc.get(obstacle_kind);
+}
+
+bool obstacle_r_used(const Scene& sc, std::size_t from) {
+  const std::size_t n = sc.count(phase);
+  if (obstacle_kind_at(sc, from) != "noslip_thermal") return true;
+  for (std::size_t j = from == std::size_t(-1) ? 0 : from + 1; j < n; ++j) {
+    if (sc.has("phase[" + std::to_string(j) + "].obstacle_r")) return false;  // replaced before any use
+    if (obstacle_kind_at(sc, j) != "noslip_thermal") return true;
+  }
+  return false;
 }
 
 void declare(Schema& s) {

@@ -3,6 +3,7 @@
 // σ = 1, mass m = 1, energies in kT units.
 #pragma once
 #include <array>
+#include <cstddef>
 #include <cstdint>
 #include <string>
 
@@ -68,6 +69,9 @@ inline constexpr Key<double> phase_at{"phase.at"};
 inline constexpr Key<std::string> phase_label{"phase.label"};
 inline constexpr Key<double> phase_e{"phase.e"};
 inline constexpr Key<double> phase_obstacle_r{"phase.obstacle_r"};
+// The obstacle's surface from then on (seed 003 ch. 5: the dune run is elastic with the
+// thermal no-slip obstacle first, then inelastic with the random tangential flip).
+inline constexpr Key<std::string> phase_obstacle_kind{"phase.obstacle_kind"};
 inline constexpr Key<bool> phase_thermostat{"phase.thermostat"};
 inline constexpr Key<double> phase_thermostat_T{"phase.thermostat_T"};
 // A standing sound wave between the walls in y (seed 003 §4.2, the sound_speed study):
@@ -84,6 +88,14 @@ inline constexpr Key<double> medium_sound_speed{"medium.sound_speed"};
 // The area fraction the scene asks for, from whichever of area_fraction, n or N it gives
 // (0 when none): the one conversion the cross-checks use.
 double requested_area_fraction(const Scene& sc);
+
+// The obstacle surface in effect in phase k (k = npos: before the first phase): the kind of
+// the last [[phase]] up to k that sets obstacle_kind, else boundary.obstacle.kind.
+std::string obstacle_kind_at(const Scene& sc, std::size_t k);
+// Whether the obstacle restitution set by phase `from` (npos: boundary.obstacle.r) is used:
+// a slip or flip surface is in effect at some time before the next phase setting
+// obstacle_r (the thermal surface re-emits and has no restitution).
+bool obstacle_r_used(const Scene& sc, std::size_t from);
 
 // Declares [system], [boundary], [boundary.obstacle], [boundary.stream], [thermostat] and
 // their checks.

@@ -1,5 +1,5 @@
 // The fluid's measured transport numbers ([medium], seed 003 §4.2): the kinematic
-// viscosity ν from planar Couette flow (the couette_study) and the speed of sound c from a
+// viscosity ν from planar Couette flow (the couette study) and the speed of sound c from a
 // standing wave (the sound_speed study). They change no event; with a stream U past an
 // obstacle of diameter D the frames' caption and run.json give the flow's Reynolds number
 // Re = U D / ν and Mach number Ma = U / c, as the seed labels its figures (Figs. 4.2–4.7).
@@ -22,7 +22,7 @@ using namespace ed_keys;
 void declare_keys(Schema& s) {
   auto& m = s.optional_table(medium, "the fluid's measured transport numbers, for the flow's Reynolds and Mach numbers "
                                      "(seed 003 §4.2); they change no event");
-  m.add_float(medium_nu, 0.65, "kinematic viscosity ν (couette_study); with a stream and an obstacle the caption and "
+  m.add_float(medium_nu, 0.65, "kinematic viscosity ν (the couette study); with a stream and an obstacle the caption and "
                                "run.json give Re = U D / ν",
               "σ²/τ")
       .above(0.0)

@@ -1,7 +1,11 @@
 // The fixed circular obstacle of seed 003 §3.3 and ch. 5 ([boundary.obstacle]): slip,
 // or no-slip by thermal re-emission or tangential flip. Draws itself, masks the bins it
 // covers, and reports the drag it receives (Fig. 4.19) in stats.csv.
+#include <cstddef>
 #include <memory>
+#include <stdexcept>
+#include <string>
+#include <string_view>
 
 #include "engine/core/rng.hpp"
 #include "engine/io/archive.hpp"
@@ -24,7 +28,11 @@ void declare_keys(Schema& s) {
   obs.add_float(obstacle_y, 0.0, "obstacle centre y", "σ").required();
   obs.add_enum(obstacle_kind, {"slip", "noslip_thermal", "noslip_flip"}, "slip",
                "surface: specular slip, no-slip by thermal re-emission, or no-slip by tangential flip");
-  obs.add_float(obstacle_r, 1.0, "restitution of the obstacle surface (slip)").above(0.0).at_most(1.0);
+  obs.add_float(obstacle_r, 1.0, "restitution of the obstacle surface (slip, noslip_flip; the thermal surface "
+                                 "re-emits and has none); default 1 (elastic)")
+      .above(0.0)
+      .at_most(1.0)
+      .optional();
 
   s.add_check([](const Scene& sc, SceneCheck& c) {
     if (!sc.has(obstacle)) return;
@@ -35,6 +43,13 @@ void declare_keys(Schema& s) {
       c.fail(obstacle_x.path, "obstacle of diameter " + toml_float(2 * R) + " at (" + toml_float(x) + ", " +
                                   toml_float(y) + ") does not fit in the box [" + toml_float(L[0]) + ", " +
                                   toml_float(L[1]) + "]; allowed: R ≤ x ≤ Lx − R, R ≤ y ≤ Ly − R");
+    // A restitution no collision uses is a mistake in the scene (the user thinks the
+    // thermal surface is inelastic), unless a phase switches to a surface that uses it.
+    if (sc.has(obstacle_r) && !obstacle_r_used(sc, std::size_t(-1)))
+      c.fail(obstacle_r.path, "boundary.obstacle.r = " + toml_float(sc.get(obstacle_r)) +
+                                  " is not used by boundary.obstacle.kind = \"noslip_thermal\" (re-emission draws the "
+                                  "normal speed); allowed: kind \"slip\" or \"noslip_flip\", or a [[phase]] "
+                                  "obstacle_kind that switches to one of them");
   });
 }
 
@@ -90,17 +105,30 @@ std::unique_ptr<EdAgentRun> attach(const Scene& sc, ed::Simulation& sim) {
   ed::ObstacleConfig oc;
   oc.centre = {sc.get(obstacle_x), sc.get(obstacle_y)};
   oc.radius = sc.get(obstacle_D) / 2;
-  const std::string kind = sc.get(obstacle_kind);
-  oc.boundary = kind == "slip"             ? ed::ObstacleBoundary::slip
-                : kind == "noslip_thermal" ? ed::ObstacleBoundary::thermal
-                                           : ed::ObstacleBoundary::flip;
-  oc.restitution = sc.get(obstacle_r);
+  oc.boundary = obstacle_boundary(sc.get(obstacle_kind));
+  oc.restitution = sc.find(obstacle_r).value_or(1.0);
   oc.kT = sim.config().kT;  // boundary temperature of the thermal wall [TTKB98]
   oc.seed = core::substream_seed(sim.config().seed, 1);  // its own random stream
   return std::make_unique<ObstacleRun>(sim.add_obstacle(oc));
 }
 
 }  // namespace
+
+ed::ObstacleBoundary obstacle_boundary(std::string_view kind) {
+  if (kind == "slip") return ed::ObstacleBoundary::slip;
+  if (kind == "noslip_thermal") return ed::ObstacleBoundary::thermal;
+  if (kind == "noslip_flip") return ed::ObstacleBoundary::flip;
+  throw std::logic_error("obstacle_boundary: '" + std::string(kind) + "' (validation allows only the three)");
+}
+
+std::string_view obstacle_kind_name(ed::ObstacleBoundary b) {
+  switch (b) {
+    case ed::ObstacleBoundary::slip: return "slip";
+    case ed::ObstacleBoundary::thermal: return "noslip_thermal";
+    case ed::ObstacleBoundary::flip: return "noslip_flip";
+  }
+  return "?";
+}
 
 EdAgentEntry obstacle_agent() {
   return {"obstacle", "fixed circular obstacle, slip or no-slip (§3.3, ch. 5)", &declare_keys, &attach};

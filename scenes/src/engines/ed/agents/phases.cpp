@@ -1,7 +1,7 @@
 // Phased runs ([[phase]], seed 003 ch. 5–6: the flow is run elastic first, then the
 // inelasticity is "turned on", with or without the thermostat): each [[phase]] gives its
 // start time `at` and the values that change then — the normal restitution e (system.e),
-// the obstacle's restitution (boundary.obstacle.r), the thermostat on or off and its
+// the obstacle's restitution and surface (boundary.obstacle.r, .kind), the thermostat on or off and its
 // temperature (thermostat.T), a standing sound wave between the walls in y (wave_vy, §4.2:
 // the speed of sound from its frequency) —, applied by an ed::PhaseTimer exactly at `at`,
 // between two events, in the one run (one video, one stats.csv). Before the first phase the scene's
@@ -56,6 +56,10 @@ void declare_keys(Schema& s) {
       .above(0.0)
       .at_most(1.0)
       .optional();
+  p.add_enum(phase_obstacle_kind, {"slip", "noslip_thermal", "noslip_flip"}, "slip",
+             "boundary.obstacle.kind from now on: the obstacle's surface (ch. 5: the dune run is elastic with the "
+             "thermal no-slip obstacle, then inelastic with the random tangential flip)")
+      .optional();
   p.add_bool(phase_thermostat, true, "the [thermostat] on (true) or off (false) from now on; off, it changes no "
                                      "velocity but keeps averaging the local velocity field")
       .optional();
@@ -78,10 +82,11 @@ void declare_keys(Schema& s) {
                                         "increasing times", k, toml_float(t), k - 1, toml_float(sc.get(phase_at, k - 1))));
       const std::string base = "phase[" + std::to_string(k) + "].";
       const bool e = sc.has(base + "e"), r = sc.has(base + "obstacle_r"), on = sc.has(base + "thermostat"),
-                 T = sc.has(base + "thermostat_T"), wave = sc.has(base + "wave_vy");
-      if (!e && !r && !on && !T && !wave)
-        c.fail(at(k, "at"), fmt::format("phase[{}] changes nothing; allowed: at least one of e, obstacle_r, thermostat, "
-                                        "thermostat_T, wave_vy", k));
+                 T = sc.has(base + "thermostat_T"), wave = sc.has(base + "wave_vy"),
+                 kind = sc.has(base + "obstacle_kind");
+      if (!e && !r && !on && !T && !wave && !kind)
+        c.fail(at(k, "at"), fmt::format("phase[{}] changes nothing; allowed: at least one of e, obstacle_r, "
+                                        "obstacle_kind, thermostat, thermostat_T, wave_vy", k));
       if (wave) {
         const auto A = sc.get(phase_wave_vy, k);
         if (A[0] == 0.0 && A[1] == 0.0)
@@ -91,13 +96,20 @@ void declare_keys(Schema& s) {
           c.fail(at(k, "wave_vy"), fmt::format("phase[{}].wave_vy is a standing wave between walls in y; allowed: with "
                                                "boundary.periodic = [_, false]", k));
       }
-      if (r && !sc.has(obstacle))
-        c.fail(at(k, "obstacle_r"), "phase[" + std::to_string(k) + "].obstacle_r needs an obstacle; allowed: with "
-                                    "[boundary.obstacle]");
-      else if (r && sc.get(obstacle_kind) == "noslip_thermal")
+      for (const auto& [given, key] : {std::pair{r, "obstacle_r"}, std::pair{kind, "obstacle_kind"}})
+        if (given && !sc.has(obstacle))
+          c.fail(at(k, key), "phase[" + std::to_string(k) + "]." + key + " needs an obstacle; allowed: with "
+                             "[boundary.obstacle]");
+      if (r && sc.has(obstacle) && !obstacle_r_used(sc, k))
         c.fail(at(k, "obstacle_r"), "phase[" + std::to_string(k) + "].obstacle_r is not used by boundary.obstacle.kind "
-                                    "= \"noslip_thermal\" (re-emission draws the normal speed); allowed: \"slip\" or "
-                                    "\"noslip_flip\"");
+                                    "= \"noslip_thermal\" (re-emission draws the normal speed), the surface from then "
+                                    "on; allowed: \"slip\" or \"noslip_flip\" (boundary.obstacle.kind or a phase's "
+                                    "obstacle_kind)");
+      if (kind && sc.has(obstacle) &&
+          sc.get(phase_obstacle_kind, k) == obstacle_kind_at(sc, k == 0 ? std::size_t(-1) : k - 1))
+        c.fail(at(k, "obstacle_kind"), "phase[" + std::to_string(k) + "].obstacle_kind = \"" +
+                                           sc.get(phase_obstacle_kind, k) + "\" is the surface already in effect; "
+                                           "allowed: another of slip, noslip_thermal, noslip_flip");
       for (const auto& [given, key] : {std::pair{on, "thermostat"}, std::pair{T, "thermostat_T"}})
         if (given && !sc.has(thermostat))
           c.fail(at(k, key), "phase[" + std::to_string(k) + "]." + key + " needs a thermostat; allowed: with "
@@ -111,6 +123,7 @@ struct Phase {
   double at = 0.0;
   std::string label;
   std::optional<double> e, obstacle_r, thermostat_T;
+  std::optional<ed::ObstacleBoundary> obstacle_kind;
   std::optional<bool> thermostat;
   std::optional<std::array<double, 2>> wave_vy;
 };
@@ -129,6 +142,7 @@ public:
     for (const Phase& p : phases_) {
       changes_e_ |= p.e.has_value();
       changes_r_ |= p.obstacle_r.has_value();
+      changes_kind_ |= p.obstacle_kind.has_value();
       changes_thermostat_ |= p.thermostat.has_value() || p.thermostat_T.has_value();
       has_wave_ |= p.wave_vy.has_value();
     }
@@ -143,6 +157,9 @@ public:
     std::vector<StatsColumn> c = {{"phase", "1", "number of [[phase]] tables applied so far" + at_end}};
     if (changes_e_) c.push_back({"e", "1", "restitution of disk–disk collisions (system.e)" + at_end});
     if (changes_r_) c.push_back({"obstacle_r", "1", "restitution of the obstacle (boundary.obstacle.r)" + at_end});
+    if (changes_kind_)
+      c.push_back({"obstacle_kind", "1",
+                   "the obstacle's surface (boundary.obstacle.kind): 0 slip, 1 noslip_thermal, 2 noslip_flip" + at_end});
     if (changes_thermostat_) {
       c.push_back({"thermostat_on", "1", "1 while the thermostat acts, 0 while a phase has switched it off" + at_end});
       c.push_back({"thermostat_T", "E", "the thermostat's temperature T_th (thermostat.T)" + at_end});
@@ -158,6 +175,7 @@ public:
     row.push_back(double(timer_->applied()));
     if (changes_e_) row.push_back(sim_.restitution());
     if (changes_r_) row.push_back(obstacle_->config().restitution);
+    if (changes_kind_) row.push_back(double(int(obstacle_->config().boundary)));
     if (changes_thermostat_) {
       row.push_back(thermostat_->active() ? 1.0 : 0.0);
       row.push_back(thermostat_->config().kT);
@@ -184,6 +202,7 @@ public:
     out.emplace_back("phase", name);
     if (changes_e_) out.emplace_back("e", toml_float(sim_.restitution()));
     if (changes_r_) out.emplace_back("r_obstacle", toml_float(obstacle_->config().restitution));
+    if (changes_kind_) out.emplace_back("obstacle", std::string(obstacle_kind_name(obstacle_->config().boundary)));
     if (changes_thermostat_)
       out.emplace_back("thermostat", thermostat_->active() ? "T_th " + toml_float(thermostat_->config().kT) : "off");
   }
@@ -199,6 +218,7 @@ private:
     const Phase& p = phases_[k];
     if (p.e) sim_.set_restitution(*p.e);
     if (p.obstacle_r) obstacle_->set_restitution(*p.obstacle_r);
+    if (p.obstacle_kind) obstacle_->set_boundary(*p.obstacle_kind);
     if (p.thermostat_T) thermostat_->set_temperature(*p.thermostat_T);
     if (p.thermostat) thermostat_->set_active(*p.thermostat, s);
     if (p.wave_vy) {
@@ -216,7 +236,7 @@ private:
   ed::CircularObstacle* obstacle_;  // owned by the simulation; nullptr: none
   ed::Thermostat* thermostat_;      // the same
   ed::PhaseTimer* timer_ = nullptr;
-  bool changes_e_ = false, changes_r_ = false, changes_thermostat_ = false, has_wave_ = false;
+  bool changes_e_ = false, changes_r_ = false, changes_kind_ = false, changes_thermostat_ = false, has_wave_ = false;
 };
 
 std::unique_ptr<EdAgentRun> attach(const Scene& sc, ed::Simulation& sim) {
@@ -231,6 +251,7 @@ std::unique_ptr<EdAgentRun> attach(const Scene& sc, ed::Simulation& sim) {
     if (sc.has(base + "label")) p.label = sc.get(phase_label, k);
     if (sc.has(base + "e")) p.e = sc.get(phase_e, k);
     if (sc.has(base + "obstacle_r")) p.obstacle_r = sc.get(phase_obstacle_r, k);
+    if (sc.has(base + "obstacle_kind")) p.obstacle_kind = obstacle_boundary(sc.get(phase_obstacle_kind, k));
     if (sc.has(base + "thermostat")) p.thermostat = sc.get(phase_thermostat, k);
     if (sc.has(base + "thermostat_T")) p.thermostat_T = sc.get(phase_thermostat_T, k);
     if (sc.has(base + "wave_vy")) p.wave_vy = sc.get(phase_wave_vy, k);
@@ -254,7 +275,7 @@ std::unique_ptr<EdAgentRun> attach(const Scene& sc, ed::Simulation& sim) {
 }  // namespace
 
 EdAgentEntry phases_agent() {
-  return {"phases", "phased runs: restitution, obstacle restitution, thermostat on/off and T, a standing sound wave, at given "
+  return {"phases", "phased runs: restitution, obstacle restitution and surface, thermostat on/off and T, a standing sound wave, at given "
           "times (ch. 5, §4.2)",
           &declare_keys, &attach};
 }
