@@ -83,9 +83,13 @@ void write_json(const std::filesystem::path& path, std::string_view kind, const 
 void write_csv(const std::filesystem::path& path, const StudyResult& r) {
   std::string header, row;
   for (const auto& v : r.values) {
-    header += (header.empty() ? "" : ",") + v.name + "," + v.name + "_err";
-    row += (row.empty() ? "" : ",") + json_number(v.value) + "," +
-           (std::isfinite(v.error) ? json_number(v.error) : std::string("nan"));
+    // Appended piece by piece: GCC 12 warns (-Wrestrict, a false positive) on the
+    // temporaries of `"," + std::string`.
+    if (!header.empty()) header += ',';
+    header.append(v.name).append(",").append(v.name).append("_err");
+    if (!row.empty()) row += ',';
+    row.append(json_number(v.value)).append(",");
+    row.append(std::isfinite(v.error) ? json_number(v.error) : std::string("nan"));
   }
   for (std::string* s : {&row})
     for (std::size_t p = s->find("null"); p != std::string::npos; p = s->find("null")) s->replace(p, 4, "nan");
