@@ -47,12 +47,8 @@ public:
   StudyResult result() const override {
     const auto& t = rows_.time();
     const std::size_t n = t.size();
-    std::size_t first = 0;
-    while (first < n && t[first] <= transient_ + 1e-9 * std::max(1.0, transient_)) ++first;
-    if (n - first < 16)
-      throw Error("drag study: " + std::to_string(n - first) + " stats rows after study.transient = " +
-                  std::to_string(transient_) + "; it needs at least 16 (a longer run.until, a smaller "
-                  "output.stats_every or study.transient)");
+    const std::size_t first = rows_.first_row_after(
+        transient_, 16, "study.transient", "a longer run.until, a smaller output.stats_every or study.transient");
     std::vector<double> fx(n - first), fy(n - first);
     for (std::size_t i = first; i < n; ++i) {
       fx[i - first] = rows_.column("drag_x")[i] / D_;

@@ -99,10 +99,14 @@ public:
   const std::vector<double>& time() const { return time_; }
   // The column by the name it was asked for.
   const std::vector<double>& column(std::string_view name) const;
+  // The first row after `start` (the transient a study leaves out). Throws grainflow::Error
+  // naming the study, `key` (what set start) and `remedy` when fewer than `need` rows follow.
+  std::size_t first_row_after(double start, std::size_t need, std::string_view key, std::string_view remedy) const;
   void save(io::ArchiveWriter& w) const;
   void load(io::ArchiveReader& r);
 
 private:
+  std::string study_;
   std::vector<std::string> wanted_;
   std::vector<std::size_t> index_;
   std::vector<double> time_;

@@ -169,7 +169,7 @@ std::unique_ptr<RunOutput> open_study_output(const OutputContext& c, render::GlC
 }
 
 StatsRows::StatsRows(std::string_view study, const std::vector<std::string>& columns, std::vector<std::string> wanted)
-    : wanted_(std::move(wanted)), values_(wanted_.size()) {
+    : study_(study), wanted_(std::move(wanted)), values_(wanted_.size()) {
   for (const auto& w : wanted_) {
     std::size_t i = 0;
     while (i < columns.size() && columns[i] != w) ++i;
@@ -189,6 +189,19 @@ const std::vector<double>& StatsRows::column(std::string_view name) const {
   for (std::size_t k = 0; k < wanted_.size(); ++k)
     if (wanted_[k] == name) return values_[k];
   throw std::logic_error("StatsRows: column '" + std::string(name) + "' was not asked for");
+}
+
+std::size_t StatsRows::first_row_after(double start, std::size_t need, std::string_view key,
+                                       std::string_view remedy) const {
+  const std::size_t n = time_.size();
+  std::size_t first = 0;
+  // A row stamped at start itself (to round-off) still belongs to the transient.
+  while (first < n && time_[first] <= start + 1e-9 * std::max(1.0, start)) ++first;
+  if (n - first < need)
+    throw Error(study_ + " study: " + std::to_string(n - first) + " stats rows after " + std::string(key) + " = " +
+                std::to_string(start) + "; it needs at least " + std::to_string(need) + " (" + std::string(remedy) +
+                ")");
+  return first;
 }
 
 void StatsRows::save(io::ArchiveWriter& w) const {

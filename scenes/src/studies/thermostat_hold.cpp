@@ -57,11 +57,8 @@ public:
   StudyResult result() const override {
     const auto& t = rows_.time();
     const std::size_t n = t.size();
-    std::size_t first = 0;
-    while (first < n && t[first] <= settle_ + 1e-9 * std::max(1.0, settle_)) ++first;
-    if (n - first < 16)
-      throw Error("thermostat_hold study: " + std::to_string(n - first) + " stats rows after study.settle = " +
-                  std::to_string(settle_) + "; it needs at least 16 (a longer run.until or a smaller output.stats_every)");
+    const std::size_t first =
+        rows_.first_row_after(settle_, 16, "study.settle", "a longer run.until or a smaller output.stats_every");
     auto tail = [&](const char* name) {
       const auto& c = rows_.column(name);
       return std::span<const double>(c.data() + first, n - first);
