@@ -50,6 +50,9 @@ struct Snapshot {
   // Periodic axes of the box: a 2D disk across a periodic edge is drawn on both sides,
   // clipped to the box (particle files mark the axes pbc="T").
   std::array<bool, 3> periodic{false, false, false};
+  // 3D: faces with neither a wall nor a periodic image (x lo, x hi, y lo, y hi, z lo, z hi;
+  // DEM boundary.top = "open"). Every other face of a non-periodic axis is a wall.
+  std::array<bool, 6> open_faces{};
   std::vector<float> pos_radius;      // x, y, z, radius per particle (world units)
   std::vector<float> attribute;       // raw colour attribute per particle, or empty
   std::string attribute_name;         // e.g. "speed", "type" — for labels
