@@ -41,6 +41,8 @@ struct FieldExposure {
   double t_begin = 0, t_end = 0;  // the exposure window [t_begin, t_end]
   int samples = 0;                // snapshots of the particles binned over it
   std::array<int, 2> axes{0, 1};  // the box axes (0 x, 1 y, 2 z) of the grid's u and v
+  // 3D: the coordinates across the plane the bins average over; unset: the whole box.
+  std::optional<std::array<double, 2>> slab;
 };
 
 struct Snapshot {
