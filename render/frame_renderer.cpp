@@ -194,7 +194,15 @@ void FrameRenderer::draw_geometry(const Snapshot& s, const FrameStyle& style, co
     }
     segments_.draw(view, w, h, geometry_, false);
   } else {
-    if (style.draw_domain) add_box_edges(geometry_, s.lo, s.hi, edge, 1.5f);
+    if (style.draw_domain) {
+      std::array<BoxFace, 6> faces{};
+      for (std::size_t f = 0; f < 6; ++f)
+        faces[f] = s.periodic[f / 2] ? BoxFace::periodic : s.open_faces[f] ? BoxFace::open : BoxFace::wall;
+      // The eye in world coordinates: the view is a rotation R and a translation t, eye = −Rᵀt.
+      const Eigen::Matrix3d r = view.view.block<3, 3>(0, 0).cast<double>();
+      const Eigen::Vector3d eye = -r.transpose() * view.view.block<3, 1>(0, 3).cast<double>();
+      add_box(geometry_, s.lo, s.hi, faces, eye, edge, 2.0f);
+    }
     segments_.draw(view, w, h, geometry_, true);
   }
 }

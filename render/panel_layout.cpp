@@ -28,6 +28,8 @@ struct PanelRow {
 constexpr PanelRow kPanels[] = {
     {"particles", [] { return PanelSpec{}; }},
     {"density", [] { return field_panel("density"); }},
+    // Area (2D) or solid (3D, within the slab) fraction: what a packed bed is judged by.
+    {"fraction", [] { return field_panel("fraction"); }},
     {"temperature", [] { return field_panel("temperature", Colormap(ColormapId::inferno)); }},
     {"speed", [] { return field_panel("speed"); }},
     // Signed: blue clockwise, red counter-clockwise, grey-white 0 (seed 003's eddies).

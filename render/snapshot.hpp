@@ -41,6 +41,8 @@ struct FieldExposure {
   double t_begin = 0, t_end = 0;  // the exposure window [t_begin, t_end]
   int samples = 0;                // snapshots of the particles binned over it
   std::array<int, 2> axes{0, 1};  // the box axes (0 x, 1 y, 2 z) of the grid's u and v
+  // 3D: the coordinates across the plane the bins average over; unset: the whole box.
+  std::optional<std::array<double, 2>> slab;
 };
 
 struct Snapshot {
@@ -50,6 +52,9 @@ struct Snapshot {
   // Periodic axes of the box: a 2D disk across a periodic edge is drawn on both sides,
   // clipped to the box (particle files mark the axes pbc="T").
   std::array<bool, 3> periodic{false, false, false};
+  // 3D: faces with neither a wall nor a periodic image (x lo, x hi, y lo, y hi, z lo, z hi;
+  // DEM boundary.top = "open"). Every other face of a non-periodic axis is a wall.
+  std::array<bool, 6> open_faces{};
   std::vector<float> pos_radius;      // x, y, z, radius per particle (world units)
   std::vector<float> attribute;       // raw colour attribute per particle, or empty
   std::string attribute_name;         // e.g. "speed", "type" — for labels

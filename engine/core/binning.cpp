@@ -1,5 +1,6 @@
 #include "engine/core/binning.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -276,6 +277,43 @@ ScalarField vorticity(const VectorField& v) {
       out.mask[g.index(ix, iy)] = ok;
       if (ok) out.at(ix, iy) = dv_du - du_dv;
     }
+  return out;
+}
+
+BinPlane bin_plane(std::string_view name) {
+  if (name == "xy") return BinPlane::xy;
+  if (name == "xz") return BinPlane::xz;
+  if (name == "yz") return BinPlane::yz;
+  throw Error("binning: \"" + std::string(name) + "\" is not a plane; allowed: xy, xz, yz");
+}
+
+std::array<int, 2> plane_axes(BinPlane plane) {
+  return plane == BinPlane::xy ? std::array{0, 1} : plane == BinPlane::xz ? std::array{0, 2} : std::array{1, 2};
+}
+
+int plane_normal(BinPlane plane) { return plane == BinPlane::xy ? 2 : plane == BinPlane::xz ? 1 : 0; }
+
+BinningOptions plane_binning(BinPlane plane, const Vec3& lo, const Vec3& hi, std::array<int, 2> bins,
+                             std::optional<std::array<double, 2>> slab) {
+  BinningOptions opt;
+  const auto [u, v] = plane_axes(plane);
+  opt.plane = plane;
+  opt.grid.nx = bins[0];
+  opt.grid.ny = bins[1];
+  opt.grid.lo = Vec2(lo[u], lo[v]);
+  opt.grid.hi = Vec2(hi[u], hi[v]);
+  if (slab) {
+    opt.slab_lo = (*slab)[0];
+    opt.slab_hi = (*slab)[1];
+  }
+  return opt;
+}
+
+std::array<int, 2> bins_no_finer_than(const Vec2& extent, double min_width) {
+  std::array<int, 2> out{1, 1};
+  if (!(min_width > 0)) return out;
+  for (int a = 0; a < 2; ++a)
+    out[std::size_t(a)] = int(std::clamp(std::floor(extent[a] / min_width), 1.0, 4096.0));
   return out;
 }
 

@@ -3,9 +3,11 @@
 // peculiar velocities (Eq. 4.9: (i/2) kT = (1/2) m <C²>, i = 2 in 2D, 3 in 3D) and mean
 // speed, for one frame or time-averaged over an exposure τ_E (BinAccumulator).
 #pragma once
+#include <array>
 #include <cstdint>
 #include <optional>
 #include <span>
+#include <string_view>
 #include <vector>
 
 #include "engine/core/field_grid.hpp"
@@ -124,5 +126,22 @@ ScalarField vorticity(const VectorField& velocity);
 
 // The fields of one instantaneous frame.
 BinnedFields bin_frame(const ParticleFrame& frame, const BinningOptions& options);
+
+// The plane named "xy", "xz" or "yz"; throws Error naming the allowed names otherwise.
+BinPlane bin_plane(std::string_view name);
+// The box axes (0 x, 1 y, 2 z) of the plane's grid axes u and v, and the axis across it.
+std::array<int, 2> plane_axes(BinPlane plane);
+int plane_normal(BinPlane plane);
+// A grid of bins[0] × bins[1] bins on `plane` spanning the box [lo, hi] along the plane's
+// axes; 3D particles are kept within [slab[0], slab[1]) across the plane when a slab is
+// given, else every one (averaged across the whole box). The one set-up of 3D field
+// planes, for `grainflow run` (DEM sample.plane/bins/slab) and `grainflow render`
+// (--plane/--bins/--slab).
+BinningOptions plane_binning(BinPlane plane, const Vec3& lo, const Vec3& hi, std::array<int, 2> bins,
+                             std::optional<std::array<double, 2>> slab = std::nullopt);
+// Bins per axis of a rectangle of `extent` such that no bin is narrower than `min_width`
+// (at least one per axis): the default grid of 3D fields, whose bins must hold whole
+// particles (a centre is binned, not its volume), so about two diameters wide.
+std::array<int, 2> bins_no_finer_than(const Vec2& extent, double min_width);
 
 }  // namespace grainflow::core

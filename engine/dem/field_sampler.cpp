@@ -15,7 +15,7 @@ void sample_fields(const Simulation& sim, core::BinAccumulator& acc) {
     m[i] = sim.mass(i);
   }
   const core::BinningOptions& o = acc.options();
-  const int normal_axis = o.plane == core::BinPlane::xy ? 2 : o.plane == core::BinPlane::xz ? 1 : 0;
+  const int normal_axis = core::plane_normal(o.plane);
   const BoxConfig& b = sim.config().box;
   const double slab = (o.slab_lo && o.slab_hi) ? *o.slab_hi - *o.slab_lo : b.hi[normal_axis] - b.lo[normal_axis];
   acc.add(std::span<const Vec3>(x), std::span<const Vec3>(v), std::span<const double>(r), std::span<const double>(m), slab);

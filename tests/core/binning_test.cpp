@@ -4,8 +4,11 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <numbers>
+#include <span>
+#include <vector>
 
 #include "engine/core/error.hpp"
 #include "engine/core/rng.hpp"
@@ -208,4 +211,39 @@ TEST(Binning, RejectsInconsistentUse) {
   bad = grid2x2();
   bad.slab_lo = 1.0;
   EXPECT_THROW(BinAccumulator{bad}, Error);
+}
+
+// The one set-up of 3D field planes (DEM sample.plane/bins/slab, render --plane/--bins/--slab).
+TEST(Binning, PlaneBinningSpansThePlaneAxesAndKeepsTheSlab) {
+  const Vec3 lo(1, 2, 3), hi(5, 8, 13);
+  const BinningOptions xz = plane_binning(bin_plane("xz"), lo, hi, {4, 10}, std::array{3.0, 5.0});
+  EXPECT_EQ(xz.plane, BinPlane::xz);
+  EXPECT_EQ(xz.grid.nx, 4);
+  EXPECT_EQ(xz.grid.ny, 10);
+  EXPECT_EQ(xz.grid.lo, Vec2(1, 3));
+  EXPECT_EQ(xz.grid.hi, Vec2(5, 13));
+  EXPECT_EQ(*xz.slab_lo, 3.0);
+  EXPECT_EQ(*xz.slab_hi, 5.0);
+  const BinningOptions yz = plane_binning(BinPlane::yz, lo, hi, {6, 10});
+  EXPECT_EQ(yz.grid.lo, Vec2(2, 3));
+  EXPECT_EQ(yz.grid.hi, Vec2(8, 13));
+  EXPECT_FALSE(yz.slab_lo.has_value());
+  EXPECT_EQ(plane_normal(BinPlane::xy), 2);
+  EXPECT_EQ(plane_normal(BinPlane::xz), 1);
+  EXPECT_EQ(plane_normal(BinPlane::yz), 0);
+  EXPECT_EQ(plane_axes(BinPlane::yz), (std::array{1, 2}));
+  EXPECT_THROW(bin_plane("zx"), Error);
+  // Only particles inside the slab are binned.
+  BinAccumulator acc(xz);
+  const std::vector<Vec3> x = {{2, 4, 4}, {2, 5.5, 4}, {2, 2.5, 4}};
+  acc.add(std::span<const Vec3>(x), {}, {}, {}, 0.0);
+  EXPECT_EQ(acc.outside(), 2u);
+}
+
+// Default 3D bins: never narrower than the width asked for (two diameters), at least one.
+TEST(Binning, BinsNoFinerThanTheWidth) {
+  EXPECT_EQ(bins_no_finer_than(Vec2(0.04, 0.08), 0.002), (std::array{20, 40}));
+  EXPECT_EQ(bins_no_finer_than(Vec2(0.041, 0.0399), 0.002), (std::array{20, 19}));
+  EXPECT_EQ(bins_no_finer_than(Vec2(0.001, 0.04), 0.002), (std::array{1, 20}));
+  EXPECT_EQ(bins_no_finer_than(Vec2(1e6, 1.0), 1e-3), (std::array{4096, 1000}));
 }

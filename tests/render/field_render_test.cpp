@@ -18,6 +18,7 @@
 
 #include <Eigen/LU>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
@@ -28,6 +29,7 @@
 #include <numbers>
 #include <span>
 #include <string>
+#include <vector>
 
 #include "engine/core/binning.hpp"
 #include "engine/core/error.hpp"
@@ -38,6 +40,7 @@
 #include "render/frame_renderer.hpp"
 #include "render/image/compare.hpp"
 #include "render/layers/colour_bar.hpp"
+#include "render/layers/segment_layer.hpp"
 #include "render/layers/text_renderer.hpp"
 #include "render/output/png_io.hpp"
 #include "tests/render/golden_support.hpp"
@@ -533,6 +536,88 @@ TEST_P(FieldRender, ObstaclePanelsWithFixedRangesMatchGolden) {
   golden::check_golden(img, "fields_obstacle_fixed", {kMaxChannel, kMaxFraction});
 }
 
+// A small 3D bed as the DEM engine draws it: five jittered layers of spheres (radius 0.5 in
+// a 10 × 6 × 8 box) coloured by height, periodic in x (dashed edges), walls in y and at
+// the bottom (solid edges, the walls behind the bed hatched), open at the top; beside it
+// the solid fraction binned on the x–z plane across the whole y depth (bins two diameters
+// wide), and a caption with the time in seconds.
+Snapshot bed_scene() {
+  Snapshot s;
+  s.dim = 3;
+  s.lo = {0, 0, 0};
+  s.hi = {10, 6, 8};
+  s.periodic = {true, false, false};
+  s.open_faces = {false, false, false, false, false, true};
+  core::Rng rng(11);
+  std::vector<Vec3> x;
+  for (int k = 0; k < 5; ++k)
+    for (int j = 0; j < 6; ++j)
+      for (int i = 0; i < 10; ++i) {
+        const double px = 0.5 + i + 0.5 * ((j + k) % 2) + 0.08 * rng.uniform(-1, 1);
+        const double py = 0.55 + j * 0.98 + 0.04 * rng.uniform(-1, 1);
+        const double pz = 0.5 + k * 0.86 + 0.05 * rng.uniform(0, 1);
+        if (py > 5.5 || (k == 4 && rng.uniform() < 0.4)) continue;
+        x.emplace_back(std::fmod(px, 10.0), py, pz);
+      }
+  for (const Vec3& p : x) {
+    s.pos_radius.insert(s.pos_radius.end(), {float(p.x()), float(p.y()), float(p.z()), 0.5f});
+    s.attribute.push_back(float(p.z()));
+  }
+  s.attribute_name = "height";
+  s.time = 0.5;
+  s.time_unit = "s";
+  s.length_unit = "m";
+  s.labels = {{"t", "0.5 s"}, {"N", std::to_string(s.size())}};
+  std::vector<Vec3> v(x.size(), Vec3::Zero());
+  std::vector<double> r(x.size(), 0.5);
+  core::BinAccumulator acc(core::plane_binning(core::BinPlane::xz, s.lo, s.hi, {5, 4}));
+  acc.add(std::span<const Vec3>(x), std::span<const Vec3>(v), std::span<const double>(r), {}, s.hi.y() - s.lo.y());
+  s.fields.push_back({"fraction", "solid fraction", acc.fraction()});
+  return s;
+}
+
+TEST_P(FieldRender, ThreeDimensionalBedMatchesGolden) {
+  FrameRenderer r(*ctx_, 480, 300, 4);
+  FrameStyle style;
+  style.colormap = Colormap(ColormapId::viridis);
+  style.range = std::pair{0.0, 4.5};
+  const std::vector<std::string> names = {"particles", "fraction"};
+  FrameLayout l = make_layout(2, 1, names);
+  set_fixed_range(l, "fraction", 0.0, 0.6);
+  golden::check_golden(r.render(bed_scene(), style, l), "bed_3d", {kMaxChannel, kMaxFraction});
+}
+
+// Walls and periodic faces read apart (no GL needed: the segments themselves).
+TEST(BoxFaces, WallEdgesSolidPeriodicEdgesDashedWallsBehindHatched) {
+  const Eigen::Vector3d lo(0, 0, 0), hi(1, 1, 1), eye(10, 10, 10);  // eye beyond the hi corner
+  auto count = [](const std::vector<Segment>& segs, float alpha) {
+    return std::count_if(segs.begin(), segs.end(), [&](const Segment& g) { return g.rgba[3] == alpha; });
+  };
+  std::vector<Segment> periodic;
+  add_box(periodic, lo, hi, {BoxFace::periodic, BoxFace::periodic, BoxFace::periodic, BoxFace::periodic,
+                             BoxFace::periodic, BoxFace::periodic}, eye, {0, 0, 0}, 2.0f);
+  EXPECT_EQ(count(periodic, 1.0f), 0);       // no solid edge
+  EXPECT_EQ(count(periodic, 0.6f), 12 * 12);  // 12 edges of 12 dashes
+  std::vector<Segment> walls;
+  add_box(walls, lo, hi, {BoxFace::wall, BoxFace::wall, BoxFace::wall, BoxFace::wall, BoxFace::wall, BoxFace::wall},
+          eye, {0, 0, 0}, 2.0f);
+  EXPECT_EQ(count(walls, 1.0f), 12);
+  EXPECT_EQ(count(walls, 0.6f), 0);
+  // Hatched: the three lo faces, whose inner sides face the eye; 31 diagonals each.
+  EXPECT_EQ(count(walls, 0.3f), 3 * 31);
+  for (const Segment& g : walls) {
+    if (g.rgba[3] != 0.3f) continue;
+    EXPECT_TRUE(g.p0[0] == 0.f || g.p0[1] == 0.f || g.p0[2] == 0.f);
+  }
+  // Periodic in x and y, walls in z (a sheared bed): vertical edges dashed, the rest solid.
+  std::vector<Segment> bed;
+  add_box(bed, lo, hi, {BoxFace::periodic, BoxFace::periodic, BoxFace::periodic, BoxFace::periodic, BoxFace::wall,
+                        BoxFace::wall}, eye, {0, 0, 0}, 2.0f);
+  EXPECT_EQ(count(bed, 1.0f), 8);
+  EXPECT_EQ(count(bed, 0.6f), 4 * 12);
+  EXPECT_EQ(count(bed, 0.3f), 31);  // the floor, seen from above
+}
+
 INSTANTIATE_TEST_SUITE_P(Backends, FieldRender, ::testing::Values(Backend::Egl, Backend::OSMesa),
                          [](const auto& info) { return std::string(backend_name(info.param)); });
 
@@ -632,14 +717,14 @@ TEST(FieldRange, PercentileIgnoresOneHotBin) {
 }
 
 TEST(PanelLayout, NamesAndGeometry) {
-  EXPECT_EQ(panel_names().size(), 7u);
+  EXPECT_EQ(panel_names().size(), 8u);
   for (auto n : panel_names()) EXPECT_NO_THROW(panel_from_name(n));
   try {
     panel_from_name("nonsense");
     FAIL();
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("nonsense"), std::string::npos);
-    EXPECT_NE(std::string(e.what()).find("particles, density, temperature, speed, vorticity, streamlines, velocity"),
+    EXPECT_NE(std::string(e.what()).find("particles, density, fraction, temperature, speed, vorticity, streamlines, velocity"),
               std::string::npos);
   }
   const std::vector<std::string> five(5, "density");

@@ -164,8 +164,9 @@ TEST(CliRun, DemFreeFallFollowsGravityAndDrawsPanels) {
   const fs::path out = fresh_dir("run_dem");
   const Result r = run("run " + scenes + "/dem_freefall_box.toml -o " + out.string() +
                        " --set 'system.group[0].N=300' --set run.until=0.01 --set sample.exposure=0.005"
+                       " --set 'system.initial.kind=\"lattice\"'"
                        " --set 'render.size=[240,160]' --set 'render.layout=[2,1]'"
-                       " --set 'render.panels=[\"particles\",\"density\"]'");
+                       " --set 'render.panels=[\"particles\",\"fraction\"]'");
   ASSERT_EQ(r.status, 0) << r.output;
   EXPECT_TRUE(fs::exists(out / "frames/frame_000002.png"));
   // Free fall from rest: kinetic energy N·m·(g t)²/2 (no contacts yet in the dilute lattice).
@@ -198,6 +199,33 @@ void write_file(const fs::path& p, const std::string& text) {
 std::string read_file(const fs::path& p) {
   std::ifstream in(p);
   return {std::istreambuf_iterator<char>(in), {}};
+}
+
+// DEM fields: bins two diameters wide unless sample.bins is given; a slab or fill height
+// the box cannot hold is refused, naming the key.
+TEST(CliRun, DemFieldBinsFollowTheDiameterAndSlabIsChecked) {
+  const std::string base = "run " + scenes + "/dem_freefall_box.toml --set 'system.group[0].N=300'"
+                           " --set run.until=0.004 --set sample.exposure=0.002 --set system.initial.grow_steps=100"
+                           " --set output.png=false --set output.mp4=false --set output.fields=true";
+  const fs::path out = fresh_dir("run_dem_bins");
+  Result r = run(base + " -o " + out.string());
+  ASSERT_EQ(r.status, 0) << r.output;
+  // 0.04 m box, radius 0.5 mm: 20 × 20 bins of 2 mm on x–z; one cell across the slab
+  // y = 0.01 … 0.03 m of the scene.
+  std::string vti = read_file(out / "fields" / "frame_000002.vti");
+  EXPECT_TRUE(contains(vti, "WholeExtent=\"0 20 0 1 0 20\" Origin=\"0 0.01 0\" Spacing=\"0.002 0.0199999"))
+      << vti.substr(0, 400);
+  const fs::path given = fresh_dir("run_dem_bins_given");
+  r = run(base + " -o " + given.string() + " --set 'sample.bins=[8,4]'");
+  ASSERT_EQ(r.status, 0) << r.output;
+  vti = read_file(given / "fields" / "frame_000002.vti");
+  EXPECT_TRUE(contains(vti, "WholeExtent=\"0 8 0 1 0 4\"")) << vti.substr(0, 400);
+  r = run(base + " -o " + fresh_dir("run_dem_slab").string() + " --set 'sample.slab=[0.05,0.06]'");
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_TRUE(contains(r.output, "sample.slab = [0.05, 0.06] must have lo < hi and overlap the box")) << r.output;
+  r = run(base + " -o " + fresh_dir("run_dem_fill").string() + " --set system.initial.fill_height=0.05");
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_TRUE(contains(r.output, "system.initial.fill_height = 0.05 m is taller than the box")) << r.output;
 }
 
 // --force touches only what grainflow wrote: a folder of the user's own is refused as a
@@ -252,7 +280,8 @@ TEST(CliRun, ForceDoesNotRemoveThroughALinkedFolder) {
 TEST(CliRun, FailedStartLeavesNoFolder) {
   const fs::path out = fresh_dir("run_failed_start");
   const Result r = run("run " + scenes + "/dem_freefall_box.toml -o " + out.string() +
-                       " --set system.box=[0.004,0.004,0.004] --set system.initial.kind=lattice");
+                       " --set system.box=[0.004,0.004,0.004] --set system.initial.kind=lattice"
+                       " --set sample.slab=[0.0,0.004]");
   EXPECT_EQ(r.status, 2) << r.output;
   EXPECT_TRUE(contains(r.output, "lattice")) << r.output;
   EXPECT_FALSE(fs::exists(out));

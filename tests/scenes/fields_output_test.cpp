@@ -78,7 +78,7 @@ fields = true
   s.lo = {0, 0, 0};
   s.hi = {8, 8, 0};
   s.time = 0.75;
-  set_binned_fields(binned, s, {}, render::FieldExposure{0.25, 0.75, 1, {0, 1}});
+  set_binned_fields(binned, s, {}, render::FieldExposure{0.25, 0.75, 1, {0, 1}, std::nullopt});
 
   const OutputEntry* entry = nullptr;
   for (const auto& o : outputs())

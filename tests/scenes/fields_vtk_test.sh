@@ -17,6 +17,7 @@ touch "$out/ed/fields/frame_000099.vti"   # not the run's: a stale frame the res
 [ "$(grep -c '<DataSet' "$out/ed/fields.pvd")" = 7 ] || { echo "FAIL: expected 7 frames after the resume"; exit 1; }
 "$gf" run "$scenes/dem_freefall_box.toml" -o "$out/dem" --set run.until=0.03 --set sample.exposure=0.01 \
   --set 'system.group[0].N=500' "${quiet[@]}" >/dev/null 2>&1
-# dem_freefall_box: box 0.04 × 0.04 × 0.08 m, 60 × 60 bins on xz, one cell across y.
-"$py" "$check" "$out/dem" 60 60 0 0 0 0.0006666666666666666 0.04 0.0013333333333333333 3
+# dem_freefall_box: box 0.04 m wide and tall, 20 × 20 bins of two diameters on xz (no
+# sample.bins), one cell across its slab y = 0.01 … 0.03 m.
+"$py" "$check" "$out/dem" 20 20 0 0.01 0 0.002 0.02 0.002 3
 echo "fields_vtk_test: ok"

@@ -239,7 +239,7 @@ def main():
                  "boundary p p p\nregion box block 0 100 0 100 -0.5 0.5")
     dem = os.path.join(out, "dem")
     run(grainflow, os.path.join(scenes, "dem_freefall_box.toml"), dem, "system.group[0].N=300",
-        "system.box=[0.01,0.01,0.02]", "run.until=0.004", "sample.exposure=0.001", "output.lammps_dump=true",
+        "system.box=[0.01,0.01,0.02]", "sample.slab=[0.0,0.01]", "run.until=0.004", "sample.exposure=0.001", "output.lammps_dump=true",
         "output.particles=true")
     check_ase(os.path.join(dem, "particles.xyz"))
     check_lammps(os.path.join(dem, "particles.lammpstrj"), os.path.join(out, "lmp_dem"), 3,

@@ -139,6 +139,7 @@ TEST(ParticleFiles, DemIdsAndStepsAreTheEnginesOwn) {
   const fs::path out = fresh_dir("dem");
   const Result r = run("run " + scenes +
                        "/dem_freefall_box.toml --set system.group[0].N=300 --set system.box=[0.01,0.01,0.02] "
+                       "--set sample.slab=[0.0,0.01] "
                        "--set run.until=0.004 --set sample.exposure=0.001 --set output.particles=true "
                        "--set output.lammps_dump=true --set output.png=false --set output.mp4=false "
                        "--set render.size=[64,64] --threads 1 -o " + out.string());

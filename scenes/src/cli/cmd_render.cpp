@@ -70,35 +70,23 @@ struct RenderArgs {
   std::vector<std::string> map_ranges;  // "panel=lo,hi"
 };
 
-// The field plane of --plane: the grid's axes (u, v) and the binning plane.
-struct FieldPlane {
-  core::BinPlane plane = core::BinPlane::xy;
-  int u = 0, v = 1;
-};
-
-FieldPlane field_plane(const std::string& name) {
-  if (name == "xy") return {core::BinPlane::xy, 0, 1};
-  if (name == "xz") return {core::BinPlane::xz, 0, 2};
-  if (name == "yz") return {core::BinPlane::yz, 1, 2};
-  throw Error("--plane " + name + " is not a plane; allowed: xy, xz, yz");
+// The field plane of --plane.
+core::BinPlane field_plane(const std::string& name) {
+  try {
+    return core::bin_plane(name);
+  } catch (const Error&) {
+    throw Error("--plane " + name + " is not a plane; allowed: xy, xz, yz");
+  }
 }
 
 // Bins the frame on the chosen plane of its box (3D: within the slab) and stores the
 // fields in the snapshot.
 void add_binned_fields(const core::ParticleFrame& frame, const Eigen::Vector3d& lo, const Eigen::Vector3d& hi,
-                       const std::vector<int>& bins, const FieldPlane& plane, const std::vector<double>& slab,
+                       const std::vector<int>& bins, core::BinPlane plane, const std::vector<double>& slab,
                        render::Snapshot& s) {
-  core::BinningOptions opt;
-  opt.grid.nx = bins[0];
-  opt.grid.ny = bins[1];
-  opt.grid.lo = Vec2(lo[plane.u], lo[plane.v]);
-  opt.grid.hi = Vec2(hi[plane.u], hi[plane.v]);
-  opt.plane = plane.plane;
-  if (!slab.empty()) {
-    opt.slab_lo = slab[0];
-    opt.slab_hi = slab[1];
-  }
-  set_binned_fields(core::bin_frame(frame, opt), s);
+  std::optional<std::array<double, 2>> across;
+  if (!slab.empty()) across = std::array{slab[0], slab[1]};
+  set_binned_fields(core::bin_frame(frame, core::plane_binning(plane, lo, hi, {bins[0], bins[1]}, across)), s);
 }
 
 std::string number(double v) {
@@ -224,7 +212,7 @@ int run_render(const RenderArgs& a) {
   const render::Colormap colormap = render::Colormap::by_name(
       !a.colormap.empty() ? a.colormap : snapshot.attribute_categorical && !has_fields ? "tab10" : "viridis");
   const render::Backend backend = render::parse_backend(a.backend);
-  FieldPlane plane;
+  core::BinPlane plane = core::BinPlane::xy;
   if (has_fields) {
     if (frame.dim == 2 && !a.plane.empty() && a.plane != "xy") throw Error("--plane " + a.plane + ": a 2D file has only the xy plane");
     if (frame.dim == 2 && !a.slab.empty()) throw Error("--slab is for 3D files: a 2D file has no depth to cut");

@@ -15,8 +15,8 @@ void set_binned_fields(core::BinnedFields f, render::Snapshot& s, const FieldUni
   s.fields.clear();
   const core::GridGeometry grid = f.density.grid;
   s.fields.push_back({"density", with_unit("n", units.density), std::move(f.density)});
-  if (f.fraction) s.fields.push_back({"fraction", "area/solid fraction", std::move(*f.fraction)});
-  if (f.temperature) s.fields.push_back({"temperature", with_unit("kT", units.temperature), std::move(*f.temperature)});
+  if (f.fraction) s.fields.push_back({"fraction", s.dim == 3 ? "solid fraction" : "area fraction", std::move(*f.fraction)});
+  if (f.temperature) s.fields.push_back({"temperature", with_unit(units.temperature_label, units.temperature), std::move(*f.temperature)});
   if (f.mean_speed) s.fields.push_back({"speed", with_unit("<|v|>", units.speed), std::move(*f.mean_speed)});
   if (f.counts.size() == grid.size()) {
     core::ScalarField samples(grid, 0.0);

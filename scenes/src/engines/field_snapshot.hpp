@@ -20,6 +20,9 @@ struct FieldUnits {
   std::string temperature;  // kT, an energy
   std::string speed;
   std::string rate;         // vorticity, 1/time
+  // What the temperature map's bar calls it: kT in the ED engine's units; in the DEM
+  // engine m<C²>/3 (J), a velocity variance weighted by the sphere mass, not a thermal kT.
+  std::string temperature_label = "kT";
 };
 
 void set_binned_fields(core::BinnedFields fields, render::Snapshot& s, const FieldUnits& units = {},

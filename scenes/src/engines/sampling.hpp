@@ -10,6 +10,9 @@ namespace grainflow::scenes::sample_keys {
 
 inline constexpr Key<double> exposure{"sample.exposure"};
 inline constexpr Key<std::array<int, 2>> bins{"sample.bins"};
+// The bins of a 2D (ED) grid when sample.bins is absent; the DEM engine sizes its own from
+// the particle diameter.
+inline constexpr std::array<int, 2> kDefaultBins{60, 60};
 
 // Declares [sample] with the keys above.
 void declare(Schema& s);

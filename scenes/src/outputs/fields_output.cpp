@@ -87,10 +87,13 @@ FrameFields frame_fields(const render::Snapshot& s) {
   out.spacing[v] = g.dy();
   out.cells[u] = g.nx;
   out.cells[v] = g.ny;
-  // The averaged axis: one cell spanning the box (the slab the bins average over) in 3D;
+  // The averaged axis: one cell spanning the slab the bins average over (sample.slab, else
+  // the box) in 3D;
   // in 2D one cell of unit depth from z = 0.
-  const double depth = s.dim == 3 ? s.hi[w] - s.lo[w] : 0.0;
-  out.origin[w] = s.dim == 3 ? s.lo[w] : 0.0;
+  const auto& slab = s.exposure->slab;
+  const double across_lo = slab ? (*slab)[0] : s.lo[w], across_hi = slab ? (*slab)[1] : s.hi[w];
+  const double depth = s.dim == 3 ? across_hi - across_lo : 0.0;
+  out.origin[w] = s.dim == 3 ? across_lo : 0.0;
   out.spacing[w] = depth > 0 ? depth : 1.0;
 
   auto& a = out.arrays;

@@ -25,8 +25,14 @@ std::string table_doc(std::span<const dem::SubModelInfo> rows) {
 }  // namespace
 
 void declare(Schema& s) {
-  s.table("sample").add_enum(plane, {"xy", "xz", "yz"}, "xz",
-                             "plane the 3D fields are projected on (bins span the plane, averaged across)");
+  auto& sample = s.table("sample");
+  sample.add_enum(plane, {"xy", "xz", "yz"}, "xz",
+                  "plane the 3D fields are projected on (bins span the plane, averaged across the slab)");
+  sample.add_float_array(slab, {0.0, 0.0}, {"lo", "hi"},
+                         "the slab the fields average over: particles with lo ≤ coordinate across sample.plane < hi "
+                         "(y for xz, z for xy, x for yz); absent: the whole box across",
+                         "m")
+      .optional();
   auto& out = s.table("output");
   out.add_bool(pair_csv, false,
                "write pair.csv: step, time [s], separation α [m] (negative = overlap), normal_force, vdw_force, "
@@ -127,12 +133,25 @@ void declare(Schema& s) {
 
   auto& init = s.section("system.initial", "initial positions (§2.2)");
   init.add_enum(initial_kind, {"lattice", "random", "file"}, "random",
-                "cubic lattice, random non-overlapping with radius growth (FINDRAD), or read from a file");
+                "lattice: simple cubic through the box (a free fall from it stacks columns); random: random "
+                "sequential addition at grow_from × the radius, then radius growth over grow_steps (FINDRAD, "
+                "§2.1), a disordered bed once settled; file: read from a file");
   initial_file::declare(init, "positions, velocities, angular velocities (omegax omegay omegaz), radii (0 or "
                               "none = the group's radius) and masses (checked against radius and density); type t "
                               "is group t − 1 and each group's N must equal its type's count");
   init.add_int(grow_steps, 1000, "steps of radius growth from small to final radius (random placement)")
       .at_least(0);
+  init.add_float(grow_from, 0.5,
+                 "random: the radius fraction the spheres are placed at (random sequential addition, no overlap) "
+                 "and grow from, linearly over grow_steps, while the contacts push them apart")
+      .above(0.0)
+      .at_most(1.0);
+  init.add_float(fill_height, 0.0,
+                 "random: centres are placed in the lowest fill_height of the box (z from origin.z); absent: the "
+                 "whole box",
+                 "m")
+      .above(0.0)
+      .optional();
 
   auto& bnd = s.section("boundary", "box walls and periodic axes (seed 000 §2.1)");
   bnd.add_bool_array(periodic, {false, false, false}, {"x", "y", "z"}, "periodic axes; others have walls");
@@ -145,6 +164,24 @@ void declare(Schema& s) {
   s.add_check([](const Scene& sc, SceneCheck& c) {
     if (sc.get(initial_kind) == "file" && sc.get(initial_file::file).empty())
       c.fail(initial_file::file.path, "system.initial.kind = \"file\" needs system.initial.file = \"path\"");
+    if (const auto across = sc.find(slab)) {
+      const auto L = sc.get(box);
+      const auto o = sc.get(origin);
+      const std::string p = sc.get(plane);
+      const int n = p == "xy" ? 2 : p == "xz" ? 1 : 0;
+      const double lo = o[std::size_t(n)], hi = lo + L[std::size_t(n)];
+      const auto [a, b] = *across;
+      if (!(a < b) || !(b > lo) || !(a < hi))
+        c.fail(slab.path, "sample.slab = [" + toml_float(a) + ", " + toml_float(b) + "] must have lo < hi and "
+                          "overlap the box across sample.plane = \"" + p + "\" (" + "xyz"[n] + " from " +
+                          toml_float(lo) + " to " + toml_float(hi) + " m); allowed: lo < hi within that range");
+    }
+    if (const auto h = sc.find(fill_height); h && *h > sc.get(box)[2])
+      c.fail(fill_height.path, "system.initial.fill_height = " + toml_float(*h) + " m is taller than the box (Lz = " +
+                                   toml_float(sc.get(box)[2]) + " m); allowed: 0 < fill_height ≤ Lz");
+    if (sc.find(fill_height) && sc.get(initial_kind) != "random")
+      c.fail(fill_height.path, "system.initial.fill_height places random spheres, but system.initial.kind = \"" +
+                                   sc.get(initial_kind) + "\"; allowed with kind = \"random\" only");
     if (sc.has(vdw) && sc.get(vdw_cutoff) <= sc.get(vdw_alpha_min))
       c.fail(vdw_cutoff.path, "system.vdw.cutoff = " + toml_float(sc.get(vdw_cutoff)) +
                                   " must exceed system.vdw.alpha_min = " + toml_float(sc.get(vdw_alpha_min)));

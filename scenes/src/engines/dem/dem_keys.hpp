@@ -10,6 +10,7 @@
 namespace grainflow::scenes::dem_keys {
 
 inline constexpr Key<std::string> plane{"sample.plane"};
+inline constexpr Key<std::array<double, 2>> slab{"sample.slab"};
 inline constexpr Key<bool> pair_csv{"output.pair_csv"};
 inline constexpr Key<std::int64_t> pair_every{"output.pair_every"};
 
@@ -59,13 +60,15 @@ inline constexpr Key<double> vdw_r_ss{"system.vdw.r_ss"};
 inline constexpr Key<std::string> initial_kind{"system.initial.kind"};
 // system.initial.file, frame and ignore: initial_file.hpp, shared with the ED engine.
 inline constexpr Key<std::int64_t> grow_steps{"system.initial.grow_steps"};
+inline constexpr Key<double> grow_from{"system.initial.grow_from"};
+inline constexpr Key<double> fill_height{"system.initial.fill_height"};
 
 inline constexpr Key<std::array<bool, 3>> periodic{"boundary.periodic"};
 inline constexpr Key<std::string> top{"boundary.top"};
 inline constexpr Key<std::array<double, 2>> top_velocity{"boundary.top_velocity"};
 inline constexpr Key<std::array<double, 2>> bottom_velocity{"boundary.bottom_velocity"};
 
-// Declares [sample] plane, [output] pair_csv/pair_every, [system…], [boundary] and checks.
+// Declares [sample] plane and slab, [output] pair_csv/pair_every, [system…], [boundary] and checks.
 void declare(Schema& s);
 
 }  // namespace grainflow::scenes::dem_keys

@@ -179,12 +179,15 @@ dem::Config dem_config(const Scene& sc) {
     sites = dem::simple_cubic_lattice(c.box.lo, a, nx, ny, nz);
     sites.resize(total);
   } else if (kind == "random") {
-    // Placed at half size, then grown to the final radii over grow_steps (FINDRAD, §2.1).
+    // Placed at grow_from × the radius (in the lowest fill_height of the box when given),
+    // then grown to the final radii over grow_steps (FINDRAD, §2.1).
     const auto grow = sc.get(keys::grow_steps);
-    c.growth_start = grow > 0 ? 0.5 : 1.0;
+    const double from = sc.get(keys::grow_from);
+    c.growth_start = grow > 0 ? from : 1.0;
     c.growth_steps = std::uint64_t(grow);
-    sites = dem::random_positions(c.box.lo, c.box.hi, rmax * c.growth_start, total,
-                                  std::uint64_t(sc.get(run_keys::seed)));
+    Vec3 hi = c.box.hi;
+    if (const auto h = sc.find(keys::fill_height)) hi.z() = c.box.lo.z() + *h;
+    sites = dem::random_positions(c.box.lo, hi, rmax * c.growth_start, total, std::uint64_t(sc.get(run_keys::seed)));
   } else {
     c.particles = particles_from_file(sc, c, counts);
     return c;
@@ -204,16 +207,18 @@ dem::Config dem_config(const Scene& sc) {
 // the state, on the plane sample.plane (averaged across the box normal to it).
 
 core::BinningOptions binning_options(const Scene& sc, const dem::Config& cfg) {
-  core::BinningOptions opt;
-  const std::string plane = sc.get(keys::plane);
-  opt.plane = plane == "xy" ? core::BinPlane::xy : plane == "yz" ? core::BinPlane::yz : core::BinPlane::xz;
-  const int u = plane == "yz" ? 1 : 0, v = plane == "xy" ? 1 : 2;
-  const auto bins = sc.get(sample_keys::bins);
-  opt.grid.nx = bins[0];
-  opt.grid.ny = bins[1];
-  opt.grid.lo = Vec2(cfg.box.lo[u], cfg.box.lo[v]);
-  opt.grid.hi = Vec2(cfg.box.hi[u], cfg.box.hi[v]);
-  return opt;
+  const core::BinPlane plane = core::bin_plane(sc.get(keys::plane));
+  const auto [u, v] = core::plane_axes(plane);
+  // Bins of at least two of the largest diameters unless sample.bins says otherwise: a
+  // sphere is binned by its centre, so finer bins stripe the density with the layers.
+  double rmax = 0;
+  for (const auto& g : cfg.groups) rmax = std::max(rmax, g.radius);
+  for (const auto& p : cfg.particles) rmax = std::max(rmax, p.radius);
+  const Vec2 extent(cfg.box.hi[u] - cfg.box.lo[u], cfg.box.hi[v] - cfg.box.lo[v]);
+  const std::array<int, 2> bins = sc.find(sample_keys::bins).value_or(core::bins_no_finer_than(extent, 4.0 * rmax));
+  std::optional<std::array<double, 2>> slab;
+  if (const auto s = sc.find(keys::slab)) slab = *s;
+  return core::plane_binning(plane, cfg.box.lo, cfg.box.hi, bins, slab);
 }
 
 // pair.csv (output.pair_csv): particles 1 and 2 of the scene every output.pair_every
@@ -326,6 +331,7 @@ public:
     s.lo = b.lo;
     s.hi = b.hi;
     s.periodic = b.periodic;
+    s.open_faces = {false, false, false, false, false, b.open_top};
     s.time = sim_.time();
     s.time_unit = "s";
     s.length_unit = "m";
@@ -356,12 +362,14 @@ public:
       f.temperature = fields_.temperature();
       f.mean_speed = fields_.mean_speed();
       f.counts = fields_.counts();
-      const core::BinPlane plane = fields_.options().plane;
-      const std::array<int, 2> axes = plane == core::BinPlane::xy   ? std::array{0, 1}
-                                      : plane == core::BinPlane::xz ? std::array{0, 2}
-                                                                    : std::array{1, 2};
-      // SI: kT = m<C²>/3 with the masses in kg (core::BinAccumulator::temperature).
-      set_binned_fields(std::move(f), s, {"m⁻²", "J", "m/s", "1/s"}, render::FieldExposure{fields_begin_, sim_.time(), fields_.frames(), axes});
+      const std::array<int, 2> axes = core::plane_axes(fields_.options().plane);
+      // SI: m<C²>/3 with the masses in kg (core::BinAccumulator::temperature), in J: the
+      // granular_temperature of the field files, labelled as what it is.
+      const core::BinningOptions& o = fields_.options();
+      std::optional<std::array<double, 2>> slab;
+      if (o.slab_lo && o.slab_hi) slab = std::array{*o.slab_lo, *o.slab_hi};
+      set_binned_fields(std::move(f), s, {"m⁻²", "J", "m/s", "1/s", "m<C²>/3"},
+                        render::FieldExposure{fields_begin_, sim_.time(), fields_.frames(), axes, slab});
       fields_.reset();
       fields_begin_ = sim_.time();
     }

@@ -146,7 +146,7 @@ public:
                    "time prevents it\n",
                    cfg.e);
     ed::SamplerConfig sc_cfg;
-    const auto bins = sc.get(sample_keys::bins);
+    const auto bins = sc.find(sample_keys::bins).value_or(sample_keys::kDefaultBins);
     sc_cfg.grid.nx = bins[0];
     sc_cfg.grid.ny = bins[1];
     sc_cfg.grid.lo = Vec2(0, 0);
@@ -213,7 +213,7 @@ public:
     if (!exposures.empty()) {
       const ed::ExposureFields& e = exposures.back();
       // Reduced units (σ = m = 1, seed 003): only the density's unit says something.
-      set_binned_fields(std::move(exposures.back().fields), s, {"σ⁻²", "", "", ""}, render::FieldExposure{e.t_begin, e.t_end, e.samples, {0, 1}});
+      set_binned_fields(std::move(exposures.back().fields), s, {"σ⁻²", "", "", "", "kT"}, render::FieldExposure{e.t_begin, e.t_end, e.samples, {0, 1}, std::nullopt});
       mask_solid_bins(s);
     }
     s.fields_pending = s.fields.empty() ? fmt::format("fields from t = {:g} (first exposure)", sampler_->exposure_end())
