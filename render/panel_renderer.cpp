@@ -247,7 +247,8 @@ void PanelRenderer::draw(FrameRenderer& frame, const Snapshot& s, const FrameSty
         const bool relative = spec.streamlines.relative_to_reference && s.reference_velocity;
         // The speed of the bin's mean velocity (it goes to 0 in a dune), as distinct from
         // the "speed" field <|v|>, the mean speed of the disks (thermal motion included).
-        const std::string speed_label = relative ? "|<v> − U|" : "|<v>|";
+        std::string speed_label = relative ? "|<v> − U|" : "|<v>|";
+        if (!s.length_unit.empty() && !s.time_unit.empty()) speed_label += " [" + s.length_unit + "/" + s.time_unit + "]";
         std::pair<double, double> range;
         if (spec.kind == PanelKind::streamlines) {
           const auto& speed = speed_field(*s.velocity, relative ? reference : Vec2(0.0, 0.0));
