@@ -247,7 +247,8 @@ void PanelRenderer::draw(FrameRenderer& frame, const Snapshot& s, const FrameSty
         const bool relative = spec.streamlines.relative_to_reference && s.reference_velocity;
         // The speed of the bin's mean velocity (it goes to 0 in a dune), as distinct from
         // the "speed" field <|v|>, the mean speed of the disks (thermal motion included).
-        const std::string speed_label = relative ? "|<v> − U|" : "|<v>|";
+        std::string speed_label = relative ? "|<v> − U|" : "|<v>|";
+        if (!s.length_unit.empty() && !s.time_unit.empty()) speed_label += " [" + s.length_unit + "/" + s.time_unit + "]";
         std::pair<double, double> range;
         if (spec.kind == PanelKind::streamlines) {
           const auto& speed = speed_field(*s.velocity, relative ? reference : Vec2(0.0, 0.0));
@@ -270,9 +271,18 @@ void PanelRenderer::draw(FrameRenderer& frame, const Snapshot& s, const FrameSty
 
     text_.add(default_title(spec, s), float(g.panel.x + 0.5 * g.panel.w), float(g.title.y + 0.55 * g.title.h),
               g.title_px, ink, TextAlign::centre, TextAnchor::middle);
-    if (!missing.empty())
-      text_.add(missing, float(plot.x + 0.5 * plot.w), float(plot.y + 0.5 * plot.h), g.tick_px, ink,
-                TextAlign::centre, TextAnchor::middle);
+    if (!missing.empty()) {
+      // Centred on the plot, within the panel (a long message would run into the next one):
+      // wrapped onto up to three lines, and smaller only if it must be.
+      const float cx = float(plot.x + 0.5 * plot.w), cy = float(plot.y + 0.5 * plot.h);
+      const float room = 2.0f * std::min(cx - float(g.panel.x), float(g.panel.right()) - cx) - float(g.tick_px);
+      const FittedText fitted = fit_text(missing, room, g.tick_px, 3,
+                                         [this](std::string_view t, int px) { return text_.measure(t, px); });
+      const float step = 1.3f * float(fitted.px);
+      for (std::size_t k = 0; k < fitted.lines.size(); ++k)
+        text_.add(fitted.lines[k], cx, cy + step * (float(k) - 0.5f * float(fitted.lines.size() - 1)), fitted.px, ink,
+                  TextAlign::centre, TextAnchor::middle);
+    }
     if (planar || s.dim == 2) {
       const PixelRect dom = planar ? projected_rect(view, plot, plane_lo, plane_hi)
                                    : projected_rect(view, plot, s.lo.head<2>(), s.hi.head<2>());

@@ -65,7 +65,7 @@ struct Snapshot {
   std::vector<Circle> obstacles;      // 2D solid circles drawn on top
   std::vector<BoundaryLine> boundary_lines;  // 2D planes drawn on top (piston, filter)
   double time = 0;
-  std::string time_unit;              // for the caption ("s"); empty in reduced units
+  std::string time_unit;              // for the caption ("s", "τ"); with length_unit, the flow-speed bar's unit
   std::string length_unit;            // for the scale bars ("σ", "m"); empty when unknown
 
   // Binned fields. All fields, scalar and vector, lie on the same GridGeometry; a bin with

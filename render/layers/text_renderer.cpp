@@ -3,6 +3,7 @@
 #include <ft2build.h>
 #include FT_FREETYPE_H
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -143,6 +144,51 @@ const TextRenderer::Glyph& TextRenderer::glyph(char32_t c, int px) {
     atlas_dirty_ = true;
   }
   return glyphs_.emplace(key, g).first->second;
+}
+
+namespace {
+// Greedy breaking at spaces: each line takes words while it stays within `width`.
+std::vector<std::string> break_greedy(const std::vector<std::string>& words, float width, int px,
+                                      const std::function<float(std::string_view, int)>& measure) {
+  std::vector<std::string> lines;
+  for (const std::string& w : words) {
+    if (!lines.empty() && measure(lines.back() + " " + w, px) <= width) lines.back() += " " + w;
+    else lines.push_back(w);
+  }
+  return lines;
+}
+}  // namespace
+
+FittedText fit_text(std::string_view utf8, float max_width, int px, int max_lines,
+                    const std::function<float(std::string_view, int)>& measure, int min_px) {
+  std::vector<std::string> words;
+  std::size_t pos = 0;
+  while (pos < utf8.size()) {
+    const std::size_t end = std::min(utf8.find(' ', pos), utf8.size());
+    if (end > pos) words.emplace_back(utf8.substr(pos, end - pos));
+    pos = end + 1;
+  }
+  if (words.empty()) return {{}, px};
+  auto widest = [&](const std::vector<std::string>& lines, int size) {
+    float w = 0;
+    for (const auto& l : lines) w = std::max(w, measure(l, size));
+    return w;
+  };
+  for (int size = px;; --size) {
+    std::vector<std::string> lines = break_greedy(words, max_width, size, measure);
+    const bool fits = int(lines.size()) <= std::max(1, max_lines) && widest(lines, size) <= max_width;
+    if (fits || size <= min_px) {
+      // Even out the lines: narrow the width while the line count stays (the last line of
+      // a greedy break is otherwise left short).
+      if (fits)
+        for (;;) {
+          auto narrower = break_greedy(words, widest(lines, size) - 1.0f, size, measure);
+          if (narrower.size() != lines.size() || widest(narrower, size) >= widest(lines, size)) break;
+          lines = std::move(narrower);
+        }
+      return {std::move(lines), size};
+    }
+  }
 }
 
 float TextRenderer::measure(std::string_view utf8, int px) {

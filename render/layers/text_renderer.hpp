@@ -3,6 +3,7 @@
 // queued for a frame is drawn as one instanced batch of glyph quads (one texel per pixel).
 #pragma once
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <memory>
 #include <string>
@@ -24,6 +25,17 @@ enum class TextAlign { left, centre, right };
 // Vertical anchor of the y coordinate: the top of the line (ascender), its middle
 // (half the cap height above the baseline), the baseline, or the bottom (descender).
 enum class TextAnchor { top, middle, baseline, bottom };
+
+// Text broken at spaces into lines of at most `max_width` pixels at `px` pixels per em:
+// the fewest lines (up to max_lines), as even in width as that count allows; when they do
+// not fit, px shrinks (down to min_px, then the text is left as wide as it is). `measure`
+// gives a string's width at a size (TextRenderer::measure).
+struct FittedText {
+  std::vector<std::string> lines;
+  int px = 0;
+};
+FittedText fit_text(std::string_view utf8, float max_width, int px, int max_lines,
+                    const std::function<float(std::string_view, int)>& measure, int min_px = 6);
 
 class TextRenderer {
 public:

@@ -588,6 +588,34 @@ TEST_P(FieldRender, ThreeDimensionalBedMatchesGolden) {
 }
 
 // Walls and periodic faces read apart (no GL needed: the segments themselves).
+// A long "fields pending" message stays within its panel: dem_freefall_box's frame 0 at
+// its render size (1440 × 600, three panels 480 px wide) said "fields from the next frame
+// (averaged since this one)" on one line ≈ 530 px wide, over the panel beside it. Every
+// pixel the message changes (against a one-letter one) lies in its own panel.
+TEST_P(FieldRender, PendingMessageStaysWithinItsPanel) {
+  Snapshot s = bed_scene();
+  s.fields.clear();
+  s.velocity.reset();
+  // The map on the right: its plot sits left of its colour-bar room, so a message too
+  // wide for it runs out on the left, over the particles.
+  FrameLayout l = make_layout(2, 1, std::vector<std::string>{"particles", "fraction"});
+  l.caption = false;
+  const int w = 960, h = 600;
+  const PanelGeometry g = layout_frame(l, w, h, false).panels[1];
+  ASSERT_EQ(g.panel.x, 480);
+  FrameRenderer r(*ctx_, w, h, 0);
+  s.fields_pending = "x";
+  const Image one_letter = r.render(s, {}, l);
+  s.fields_pending = "fields from the next frame (averaged since this one)";
+  const Image message = r.render(s, {}, l);
+  int inside = 0, outside = 0;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x)
+      if (std::memcmp(one_letter.pixel(x, y), message.pixel(x, y), 4) != 0) (x >= g.panel.x ? inside : outside)++;
+  EXPECT_GT(inside, 300);  // the message is drawn
+  EXPECT_EQ(outside, 0);
+}
+
 TEST(BoxFaces, WallEdgesSolidPeriodicEdgesDashedWallsBehindHatched) {
   const Eigen::Vector3d lo(0, 0, 0), hi(1, 1, 1), eye(10, 10, 10);  // eye beyond the hi corner
   auto count = [](const std::vector<Segment>& segs, float alpha) {
@@ -767,6 +795,31 @@ TEST(PanelLayout, FittedGridDrawsTheDomainLargest) {
         EXPECT_GE(fitted_area(c, r, 1920, 1080, aspect) * 1.011, fitted_area(cols, (n + cols - 1) / cols, 1920, 1080, aspect))
             << n << " panels, aspect " << aspect << ": " << c << " × " << r << " against " << cols << " columns";
     }
+}
+
+// Text fitted to a width (the panels' messages): broken at spaces into the fewest lines,
+// as even as that count allows, and smaller only when max_lines cannot hold it. Measured
+// here as monospace: half the font size per character.
+TEST(FitText, BreaksAtSpacesEvenlyAndShrinksOnlyIfItMust) {
+  const auto mono = [](std::string_view t, int px) { return 0.5f * float(px) * float(t.size()); };
+  const std::string msg = "fields from the next frame (averaged since this one)";  // 52 characters: 260 px at 10 px
+  FittedText one = fit_text("abc def", 100, 10, 3, mono);
+  EXPECT_EQ(one.lines, (std::vector<std::string>{"abc def"}));
+  EXPECT_EQ(one.px, 10);
+  // Two lines of 26 and 25 characters (greedy: 36 and 15).
+  FittedText two = fit_text(msg, 200, 10, 3, mono);
+  EXPECT_EQ(two.lines, (std::vector<std::string>{"fields from the next frame", "(averaged since this one)"}));
+  EXPECT_EQ(two.px, 10);
+  for (const auto& line : two.lines) EXPECT_LE(mono(line, two.px), 200.f);
+  // One line only: the largest size at which 52 characters fit 200 px is 7 (182 px).
+  FittedText shrunk = fit_text(msg, 200, 10, 1, mono);
+  EXPECT_EQ(shrunk.lines, (std::vector<std::string>{msg}));
+  EXPECT_EQ(shrunk.px, 7);
+  // A word wider than the room even at min_px is left as it is, at min_px.
+  FittedText wide = fit_text("abcdefghij", 20, 10, 3, mono, 6);
+  EXPECT_EQ(wide.lines, (std::vector<std::string>{"abcdefghij"}));
+  EXPECT_EQ(wide.px, 6);
+  EXPECT_TRUE(fit_text("  ", 20, 10, 3, mono).lines.empty());
 }
 
 TEST(Caption, FromLabels) {

@@ -65,9 +65,9 @@ TEST(Caption, GivesReynoldsAndMachNumbersOfTheMedium) {
   // Re = 0.2 · 6 / 0.6 = 2, Ma = 0.2 / 1.6 = 0.125.
   const std::string text = kStream + kObstacle + "[medium]\nnu = 0.6\nsound_speed = 1.6\n";
   const std::string c = caption_of(text);
-  // (The obstacle took the disks it overlapped: N < 60.)
-  EXPECT_EQ(c.rfind("medium   t = 0   N = ", 0), 0u) << c;
-  EXPECT_NE(c.find("   τ_E = 1   U = 0.2   Re = 2   Ma = 0.125"), std::string::npos) << c;
+  // (The obstacle took the disks it overlapped: N < 60.) Times in the ED unit τ.
+  EXPECT_EQ(c.rfind("medium   t = 0 τ   N = ", 0), 0u) << c;
+  EXPECT_NE(c.find("   τ_E = 1 τ   U = 0.2   Re = 2   Ma = 0.125"), std::string::npos) << c;
   const auto f = figures_of(text);
   EXPECT_DOUBLE_EQ(figure(f, "Re"), 2.0);
   EXPECT_DOUBLE_EQ(figure(f, "Ma"), 0.125);

@@ -184,6 +184,44 @@ TEST(CliRender, MapRangesAreFixedOrKeptFromTheFirstFrame) {
   }
 }
 
+// Without --bins a 3D file's fields are binned as `grainflow run` bins DEM fields: no bin
+// narrower than two of the largest diameters. Spheres of radius 1 and 0.5 in a 10 × 8 × 21
+// box: 4 wide bins give 2 × 5 on the xz plane (10/4, 21/4), 2 × 2 on xy; --bins rules when
+// given; a 2D file keeps 60 × 60. The temperature bar says what the map is: m<C²>/3 with a
+// mass column, the velocity variance <C²>/3 without (the file's units, whatever they are).
+TEST(CliRender, ThreeDFieldBinsAreTwoDiametersWideAndTheTemperatureSaysWhatItIs) {
+  const fs::path dir = fresh_dir("render_bins_in");
+  fs::create_directories(dir);
+  const std::string head = "ITEM: TIMESTEP\n0\nITEM: NUMBER OF ATOMS\n3\nITEM: BOX BOUNDS ff ff ff\n0 10\n0 8\n0 21\n";
+  const fs::path plain = dir / "plain.lammpstrj", massive = dir / "mass.lammpstrj";
+  std::ofstream(plain) << head << "ITEM: ATOMS id type x y z vx vy vz radius\n1 1 2 2 2 0 0 1 1\n2 1 6 4 2 1 0 0 0.5\n"
+                          "3 1 5 5 9 0 1 0 0.5\n";
+  std::ofstream(massive) << head << "ITEM: ATOMS id type x y z vx vy vz radius mass\n1 1 2 2 2 0 0 1 1 8\n"
+                            "2 1 6 4 2 1 0 0 0.5 1\n3 1 5 5 9 0 1 0 0.5 1\n";
+  const std::string opts = " --size 240 160 --no-mp4 --panels density,temperature -o ";
+  const Result xz = run("render " + plain.string() + opts + fresh_dir("render_bins_xz").string());
+  ASSERT_EQ(xz.status, 0) << xz.output;
+  EXPECT_TRUE(contains(xz.output, "fields on 2 × 5 bins of the xz plane (no finer than two diameters)")) << xz.output;
+  EXPECT_TRUE(contains(xz.output, "temperature map: <C²>/3")) << xz.output;
+  const Result xy = run("render " + massive.string() + opts + fresh_dir("render_bins_xy").string() + " --plane xy");
+  ASSERT_EQ(xy.status, 0) << xy.output;
+  EXPECT_TRUE(contains(xy.output, "fields on 2 × 2 bins of the xy plane")) << xy.output;
+  EXPECT_TRUE(contains(xy.output, "temperature map: m<C²>/3")) << xy.output;
+  const Result given = run("render " + plain.string() + opts + fresh_dir("render_bins_given").string() + " --bins 7 3");
+  ASSERT_EQ(given.status, 0) << given.output;
+  EXPECT_TRUE(contains(given.output, "fields on 7 × 3 bins of the xz plane;")) << given.output;
+  const Result flat = run("render " + data + "/particles/lammps_scaled_2d.lammpstrj --size 160 160 --no-mp4 --panels density -o " +
+                          fresh_dir("render_bins_2d").string());
+  ASSERT_EQ(flat.status, 0) << flat.output;
+  EXPECT_TRUE(contains(flat.output, "fields on 60 × 60 bins of the xy plane;")) << flat.output;
+  // The pour starts empty: the grid comes from its first frame with spheres (radii up to
+  // 0.5984 → 2.39 wide bins: 2 × 5 on the 6 × 12 xz plane).
+  const Result pour_run = run("render " + pour + " --size 160 120 --last 2 --no-mp4 --panels density -o " +
+                              fresh_dir("render_bins_pour").string());
+  ASSERT_EQ(pour_run.status, 0) << pour_run.output;
+  EXPECT_TRUE(contains(pour_run.output, "fields on 2 × 5 bins of the xz plane")) << pour_run.output;
+}
+
 // A 2D dump periodic in x with a disk across the edge x = 10: drawn on both sides.
 TEST(CliRender, PeriodicImagesOfA2DFile) {
   const fs::path dir = fresh_dir("render_periodic_in");

@@ -145,7 +145,7 @@ TEST(EdFields, FrameZeroSaysWhenFieldsComeAndTheBarsNameTheirQuantities) {
   // Before the first exposure is over there are no fields: the panels say when they come
   // (not "no density field" three times). Then the bars name the mean speed <|v|>
   // (thermal motion included; the streamline panels draw |<v>| of the mean velocity,
-  // which the snapshot carries apart) and the density's unit.
+  // which the snapshot carries apart) and the units: σ⁻², σ/τ, 1/τ.
   const Scene sc = parse_scene(R"([run]
 engine = "ed"
 until = 4.0
@@ -161,14 +161,17 @@ bins = [4, 4]
   render::Snapshot s;
   runner->snapshot("uniform", s);
   EXPECT_TRUE(s.fields.empty());
-  EXPECT_EQ(s.fields_pending, "fields from t = 2.5 (first exposure)");
+  EXPECT_EQ(s.fields_pending, "fields from t = 2.5 τ (first exposure)");
   while (runner->time() < 2.5) runner->advance_to(2.5);
   runner->snapshot("uniform", s);
   EXPECT_TRUE(s.fields_pending.empty()) << s.fields_pending;
   ASSERT_NE(s.field("density"), nullptr);
   EXPECT_EQ(s.field("density")->label, "n [σ⁻²]");
   ASSERT_NE(s.field("speed"), nullptr);
-  EXPECT_EQ(s.field("speed")->label, "<|v|>");
+  EXPECT_EQ(s.field("speed")->label, "<|v|> [σ/τ]");  // ED units: σ = m = 1, time in τ
+  ASSERT_NE(s.field("vorticity"), nullptr);
+  EXPECT_EQ(s.field("vorticity")->label, "ω [1/τ]");
+  EXPECT_EQ(s.time_unit, "τ");  // the caption's t = … τ; with σ, the flow-speed bar's |<v>| [σ/τ]
   ASSERT_NE(s.field("temperature"), nullptr);
   EXPECT_EQ(s.field("temperature")->label, "kT");
   ASSERT_TRUE(s.velocity.has_value());

@@ -62,7 +62,7 @@ struct RenderArgs {
   bool annotations = true;
   bool force = false;
   std::vector<std::string> panels;  // empty: one particle picture (with colour bar or legend and caption)
-  std::vector<int> bins{60, 60};
+  std::vector<int> bins;             // empty: 60 × 60 for 2D files; 3D: no finer than two diameters
   std::vector<int> layout;          // cols rows; default: a near-square grid for the panels
   std::string plane;                // empty: xy for 2D files, xz (vertical, under gravity) for 3D
   std::vector<double> slab;         // lo hi across the plane (3D); empty: the whole box
@@ -79,14 +79,36 @@ core::BinPlane field_plane(const std::string& name) {
   }
 }
 
+// The field grid when --bins is not given. 3D: as `grainflow run` bins DEM fields, no bin
+// narrower than two of the frame's largest diameters (a sphere is binned by its centre:
+// finer bins stripe the density with the layers and leave bins without the two samples a
+// temperature needs). 2D files keep 60 × 60.
+std::array<int, 2> default_bins(const core::ParticleFrame& frame, const Eigen::Vector3d& lo, const Eigen::Vector3d& hi,
+                                core::BinPlane plane) {
+  if (frame.dim == 2) return {60, 60};
+  double rmax = 0;
+  for (double r : frame.radius) rmax = std::max(rmax, r);
+  const auto [u, v] = core::plane_axes(plane);
+  return core::bins_no_finer_than(Vec2(hi[u] - lo[u], hi[v] - lo[v]), 4.0 * rmax);
+}
+
+// The units of a file's fields are the file's own, unknown here: the bars name only what
+// the temperature map is. core::BinAccumulator::temperature is Σ m|C|² / (i N), i = dim,
+// with m from a "mass" column, else 1: then it is a velocity variance, not an energy.
+FieldUnits file_field_units(const core::ParticleFrame& frame) {
+  FieldUnits u;
+  u.temperature_label = std::string(frame.column("mass") ? "m<C²>/" : "<C²>/") + (frame.dim == 2 ? "2" : "3");
+  return u;
+}
+
 // Bins the frame on the chosen plane of its box (3D: within the slab) and stores the
 // fields in the snapshot.
 void add_binned_fields(const core::ParticleFrame& frame, const Eigen::Vector3d& lo, const Eigen::Vector3d& hi,
-                       const std::vector<int>& bins, core::BinPlane plane, const std::vector<double>& slab,
+                       const std::array<int, 2>& bins, core::BinPlane plane, const std::vector<double>& slab,
                        render::Snapshot& s) {
   std::optional<std::array<double, 2>> across;
   if (!slab.empty()) across = std::array{slab[0], slab[1]};
-  set_binned_fields(core::bin_frame(frame, core::plane_binning(plane, lo, hi, {bins[0], bins[1]}, across)), s);
+  set_binned_fields(core::bin_frame(frame, core::plane_binning(plane, lo, hi, bins, across)), s, file_field_units(frame));
 }
 
 std::string number(double v) {
@@ -104,7 +126,7 @@ double frame_time(const core::ParticleFrame& frame, double dt) {
 }
 
 // The caption: time, step, source frame index, particle count (and bins with fields).
-void set_labels(const core::ParticleFrame& frame, std::int64_t index, double time, const std::vector<int>* bins,
+void set_labels(const core::ParticleFrame& frame, std::int64_t index, double time, const std::array<int, 2>* bins,
                 render::Snapshot& s) {
   s.labels.clear();
   if (std::isfinite(time)) s.labels.emplace_back("t", number(time));
@@ -149,7 +171,7 @@ int run_render(const RenderArgs& a) {
   if (a.last >= 0 && a.last < a.first)
     throw Error("--last " + std::to_string(a.last) + " comes before --first " + std::to_string(a.first));
   if (!a.png && !a.mp4) throw Error("nothing to write: --no-png and --no-mp4 together");
-  if (a.bins.size() != 2 || a.bins[0] < 1 || a.bins[1] < 1 || a.bins[0] > 4096 || a.bins[1] > 4096)
+  if (!a.bins.empty() && (a.bins.size() != 2 || a.bins[0] < 1 || a.bins[1] < 1 || a.bins[0] > 4096 || a.bins[1] > 4096))
     throw Error("--bins must be two integers NX NY, each in 1..4096");
   if (!a.slab.empty() && (a.slab.size() != 2 || !std::isfinite(a.slab[0]) || !std::isfinite(a.slab[1]) ||
                           !(a.slab[0] < a.slab[1])))
@@ -213,10 +235,12 @@ int run_render(const RenderArgs& a) {
       !a.colormap.empty() ? a.colormap : snapshot.attribute_categorical && !has_fields ? "tab10" : "viridis");
   const render::Backend backend = render::parse_backend(a.backend);
   core::BinPlane plane = core::BinPlane::xy;
+  std::string plane_name = "xy";
   if (has_fields) {
     if (frame.dim == 2 && !a.plane.empty() && a.plane != "xy") throw Error("--plane " + a.plane + ": a 2D file has only the xy plane");
     if (frame.dim == 2 && !a.slab.empty()) throw Error("--slab is for 3D files: a 2D file has no depth to cut");
-    plane = field_plane(!a.plane.empty() ? a.plane : frame.dim == 3 ? "xz" : "xy");
+    plane_name = !a.plane.empty() ? a.plane : frame.dim == 3 ? "xz" : "xy";
+    plane = field_plane(plane_name);
   }
   if (frame.dim == 2 && a.distance > 0) throw Error("--distance is for 3D files; a 2D view takes --zoom and --target");
   const std::string stem = fs::path(a.input).stem().string();
@@ -267,6 +291,7 @@ int run_render(const RenderArgs& a) {
   // another. A `fix pour` dump starts empty: its first frame fixes neither.
   Eigen::Vector3d lo(0, 0, 0), hi(1, 1, 1);
   bool bounds_fixed = false;
+  std::optional<std::array<int, 2>> bins;  // the field grid, once fixed
   if (!a.range.empty()) style.range = std::pair{a.range[0], a.range[1]};
 
   std::fprintf(stderr, "grainflow: %s (%s, %s) → %s  [%s, %dx%d, colour by %s]\n", a.input.c_str(),
@@ -298,8 +323,23 @@ int run_render(const RenderArgs& a) {
       snapshot.hi = hi;
       const double time = frame_time(frame, a.dt);
       snapshot.time = std::isfinite(time) ? time : double(index);
-      if (has_fields) add_binned_fields(frame, lo, hi, a.bins, plane, a.slab, snapshot);
-      set_labels(frame, index, time, has_fields ? &a.bins : nullptr, snapshot);
+      // The grid is fixed for the whole video, like the camera: by --bins, else from the
+      // first frame with particles (an empty frame has no diameter to go by, nor fields).
+      if (has_fields && !bins && (!a.bins.empty() || frame.size() > 0)) {
+        bins = a.bins.empty() ? default_bins(frame, lo, hi, plane) : std::array{a.bins[0], a.bins[1]};
+        std::fprintf(stderr, "grainflow: fields on %d × %d bins of the %s plane%s; temperature map: %s\n", (*bins)[0],
+                     (*bins)[1], plane_name.c_str(), a.bins.empty() && frame.dim == 3 ? " (no finer than two diameters)" : "",
+                     file_field_units(frame).temperature_label.c_str());
+      }
+      snapshot.fields_pending.clear();
+      if (bins) {
+        add_binned_fields(frame, lo, hi, *bins, plane, a.slab, snapshot);
+      } else if (has_fields) {
+        snapshot.fields.clear();
+        snapshot.velocity.reset();
+        snapshot.fields_pending = "no particles yet";
+      }
+      set_labels(frame, index, time, bins ? &*bins : nullptr, snapshot);
       // Frames are named by their index in the file, so --first/--every keep its numbering.
       output->consume(layout ? renderer.render(snapshot, style, *layout) : renderer.render(snapshot, style), index,
                       snapshot.time);
@@ -392,7 +432,10 @@ void setup_render_command(CLI::App& app, int& status) {
       ->capture_default_str();
   cmd->add_option("--map-range", args->map_ranges, "Fixed colour range of a map panel: PANEL=LO,HI (repeatable), "
                                                    "e.g. --map-range density=0.7,0.9");
-  cmd->add_option("--bins", args->bins, "Bins of the field grid: NX NY")->expected(2)->capture_default_str();
+  cmd->add_option("--bins", args->bins,
+                  "Bins of the field grid: NX NY (default: 2D files 60 × 60; 3D files no finer than two of the "
+                  "largest diameters of the first frame with particles)")
+      ->expected(2);
   cmd->add_option("--layout", args->layout, "Panel grid: COLS ROWS (default: near-square for the panels)")
       ->expected(2);
   cmd->callback([args, &status] { status = run_render(*args); });

@@ -180,6 +180,7 @@ public:
     s.periodic = {cfg.periodic_x, cfg.periodic_y, false};
     s.time = sim_.time();
     s.length_unit = "σ";
+    s.time_unit = "τ";
     const auto& disks = sim_.disks();
     // Slots of disks that left an open stream are empty: only present disks are drawn.
     const std::size_t count = std::size_t(sim_.count());
@@ -212,11 +213,13 @@ public:
     auto exposures = sampler_->take_frames();
     if (!exposures.empty()) {
       const ed::ExposureFields& e = exposures.back();
-      // Reduced units (σ = m = 1, seed 003): only the density's unit says something.
-      set_binned_fields(std::move(exposures.back().fields), s, {"σ⁻²", "", "", "", "kT"}, render::FieldExposure{e.t_begin, e.t_end, e.samples, {0, 1}, std::nullopt});
+      // Reduced units (σ = m = 1, seed 003; time in τ, the unit of run.until): speeds in σ/τ,
+      // rates in 1/τ; kT is an energy in the same units, named by itself.
+      set_binned_fields(std::move(exposures.back().fields), s, {"σ⁻²", "", "σ/τ", "1/τ", "kT"},
+                        render::FieldExposure{e.t_begin, e.t_end, e.samples, {0, 1}, std::nullopt});
       mask_solid_bins(s);
     }
-    s.fields_pending = s.fields.empty() ? fmt::format("fields from t = {:g} (first exposure)", sampler_->exposure_end())
+    s.fields_pending = s.fields.empty() ? fmt::format("fields from t = {:g} τ (first exposure)", sampler_->exposure_end())
                                         : std::string();
     if (cfg.stream.x() != 0 || cfg.stream.y() != 0) s.reference_velocity = Eigen::Vector2d(cfg.stream.x(), cfg.stream.y());
   }
