@@ -21,31 +21,33 @@ std::pair<double, double> finite_range(std::span<const float> values) {
 
 namespace {
 
-// Disks with their images across the periodic edges of the box [lo, hi] (x and y): a disk
-// reaching past an edge is repeated one period away, diagonally too at a corner.
+// Particles with their images across the periodic faces of the box [lo, hi] (x and y in
+// 2D, x, y and z in 3D): a particle reaching past a face is repeated one period away,
+// diagonally too at an edge or a corner (up to 3 images in 2D, 7 in 3D).
 void add_periodic_images(const Snapshot& s, std::span<const float> values, std::vector<float>& pos,
                          std::vector<float>& vals) {
   pos.assign(s.pos_radius.begin(), s.pos_radius.end());
   vals.assign(values.begin(), values.end());
-  const float lo[2] = {float(s.lo.x()), float(s.lo.y())}, hi[2] = {float(s.hi.x()), float(s.hi.y())};
+  const int dims = s.dim == 3 ? 3 : 2;
+  const float lo[3] = {float(s.lo.x()), float(s.lo.y()), float(s.lo.z())},
+              hi[3] = {float(s.hi.x()), float(s.hi.y()), float(s.hi.z())};
   for (std::size_t i = 0; i < s.size(); ++i) {
     const float* d = &s.pos_radius[4 * i];
-    float shift[2][3];  // per axis: none and up to one image
-    int count[2];
-    for (int a = 0; a < 2; ++a) {
-      count[a] = 1;
-      shift[a][0] = 0.0f;
+    float shift[3][2] = {};  // per axis: none and up to one image
+    int count[3] = {1, 1, 1};
+    for (int a = 0; a < dims; ++a) {
       if (!s.periodic[std::size_t(a)]) continue;
       const float len = hi[a] - lo[a];
       if (d[a] - d[3] < lo[a]) shift[a][count[a]++] = len;
       else if (d[a] + d[3] > hi[a]) shift[a][count[a]++] = -len;
     }
     for (int ax = 0; ax < count[0]; ++ax)
-      for (int ay = 0; ay < count[1]; ++ay) {
-        if (ax == 0 && ay == 0) continue;
-        pos.insert(pos.end(), {d[0] + shift[0][ax], d[1] + shift[1][ay], d[2], d[3]});
-        if (!values.empty()) vals.push_back(values[i]);
-      }
+      for (int ay = 0; ay < count[1]; ++ay)
+        for (int az = 0; az < count[2]; ++az) {
+          if (ax == 0 && ay == 0 && az == 0) continue;
+          pos.insert(pos.end(), {d[0] + shift[0][ax], d[1] + shift[1][ay], d[2] + shift[2][az], d[3]});
+          if (!values.empty()) vals.push_back(values[i]);
+        }
   }
 }
 
@@ -136,7 +138,7 @@ void FrameRenderer::draw_particles(const Snapshot& s, const FrameStyle& style, c
                                    int h) {
   // Colour coordinates in [0, 1]; a constant attribute sits at the map's centre.
   values_.clear();
-  ParticleDrawStyle pstyle{style.colormap, s.attribute_categorical, std::nullopt};
+  ParticleDrawStyle pstyle{style.colormap, s.attribute_categorical, std::nullopt, std::nullopt};
   if (s.attribute.size() == s.size() && s.size() > 0) {
     values_.resize(s.size());
     if (s.attribute_categorical) {
@@ -160,6 +162,19 @@ void FrameRenderer::draw_particles(const Snapshot& s, const FrameStyle& style, c
     particles_.draw_disks(view, w, h, wrapped_pos_, wrapped_values_, pstyle);
   } else if (s.dim == 2) {
     particles_.draw_disks(view, w, h, s.pos_radius, values_, pstyle);
+  } else if (s.periodic[0] || s.periodic[1] || s.periodic[2]) {
+    // Images across the periodic faces, each sphere's surface cut at the box (in the
+    // sphere shader: 3D has no screen rectangle to scissor to).
+    add_periodic_images(s, values_, wrapped_pos_, wrapped_values_);
+    constexpr float kFar = 3e38f;
+    std::array<float, 6> box{-kFar, -kFar, -kFar, kFar, kFar, kFar};
+    for (int a = 0; a < 3; ++a)
+      if (s.periodic[std::size_t(a)]) {
+        box[std::size_t(a)] = float(s.lo[a]);
+        box[std::size_t(a) + 3] = float(s.hi[a]);
+      }
+    pstyle.clip_box = box;
+    particles_.draw_spheres(view, w, h, wrapped_pos_, wrapped_values_, pstyle);
   } else {
     particles_.draw_spheres(view, w, h, s.pos_radius, values_, pstyle);
   }
@@ -176,7 +191,7 @@ void FrameRenderer::draw_geometry(const Snapshot& s, const FrameStyle& style, co
       std::vector<float> obstacle_disks;
       for (const auto& c : s.obstacles)
         obstacle_disks.insert(obstacle_disks.end(), {float(c.centre.x()), float(c.centre.y()), 0.0f, float(c.radius)});
-      ParticleDrawStyle flat{style.colormap, false, Rgb{0.55f, 0.55f, 0.58f}};
+      ParticleDrawStyle flat{style.colormap, false, Rgb{0.55f, 0.55f, 0.58f}, std::nullopt};
       particles_.draw_disks(view, w, h, obstacle_disks, {}, flat);
       for (const auto& c : s.obstacles)
         add_circle(geometry_, c.centre.cast<float>(), float(c.radius), edge, 1.5f);

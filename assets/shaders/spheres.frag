@@ -9,6 +9,9 @@ in vec2 v_coord;
 #endif
 uniform mat4 u_proj;
 uniform mat4 u_inv_proj;
+uniform mat4 u_inv_view;   // view → world, for the cut at the box
+uniform vec3 u_clip_lo;    // periodic images: the surface outside [lo, hi] is cut away
+uniform vec3 u_clip_hi;
 uniform vec2 u_viewport;
 uniform vec2 u_viewport_origin;  // window position of the viewport (panels)
 uniform sampler2D u_colormap;
@@ -29,6 +32,18 @@ void main() {
   float t = -b - sqrt(disc);
   vec3 hit = o + t * d;
   vec3 n = (hit - v_centre_view) / v_radius;
+  // Cut at the box (a sphere across a periodic face and its image): where the front
+  // surface lies outside, the inside of the far surface shows through the cut, darker.
+  float inner = 1.0;
+  vec3 w = (u_inv_view * vec4(hit, 1.0)).xyz;
+  if (any(lessThan(w, u_clip_lo)) || any(greaterThan(w, u_clip_hi))) {
+    t = -b + sqrt(disc);
+    hit = o + t * d;
+    w = (u_inv_view * vec4(hit, 1.0)).xyz;
+    if (any(lessThan(w, u_clip_lo)) || any(greaterThan(w, u_clip_hi))) discard;
+    n = (v_centre_view - hit) / v_radius;
+    inner = 0.55;
+  }
   vec4 clip = u_proj * vec4(hit, 1.0);
   gl_FragDepth = clip.z / clip.w * 0.5 + 0.5;
 
@@ -40,6 +55,6 @@ void main() {
   vec3 h = normalize(l - d);
   float diffuse = max(dot(n, l), 0.0);
   float spec = pow(max(dot(n, h), 0.0), 48.0);
-  vec3 colour = base * (0.28 + 0.72 * diffuse) + vec3(0.25) * spec;
+  vec3 colour = inner * (base * (0.28 + 0.72 * diffuse) + vec3(0.25) * spec);
   frag_colour = vec4(colour, 1.0);
 }

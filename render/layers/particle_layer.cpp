@@ -182,6 +182,12 @@ void ParticleLayer::draw_spheres(const ViewTransform& view, int width, int heigh
   gl_.UniformMatrix4fv(p.uniform("u_view"), 1, GL_FALSE, view.view.data());
   gl_.UniformMatrix4fv(p.uniform("u_proj"), 1, GL_FALSE, view.proj.data());
   gl_.UniformMatrix4fv(p.uniform("u_inv_proj"), 1, GL_FALSE, inv_proj.data());
+  const Mat4 inv_view = view.view.inverse();
+  gl_.UniformMatrix4fv(p.uniform("u_inv_view"), 1, GL_FALSE, inv_view.data());
+  constexpr float kFar = 3e38f;  // no cut along an axis
+  const std::array<float, 6> box = style.clip_box.value_or(std::array<float, 6>{-kFar, -kFar, -kFar, kFar, kFar, kFar});
+  gl_.Uniform3f(p.uniform("u_clip_lo"), box[0], box[1], box[2]);
+  gl_.Uniform3f(p.uniform("u_clip_hi"), box[3], box[4], box[5]);
   gl_.Uniform2f(p.uniform("u_viewport"), float(width), float(height));
   // The ray of a pixel comes from gl_FragCoord, which counts from the window's corner.
   GLint vp[4] = {0, 0, 0, 0};

@@ -4,6 +4,7 @@
 // point size the driver allows.
 #pragma once
 #include <memory>
+#include <array>
 #include <optional>
 #include <cstdint>
 #include <span>
@@ -23,6 +24,9 @@ struct ParticleDrawStyle {
   Colormap colormap{ColormapId::viridis};
   bool categorical = false;
   std::optional<Rgb> flat_colour;  // draw all particles in one colour (no attribute)
+  // 3D spheres: the world-space box (lo x, y, z, hi x, y, z) outside which a sphere's surface
+  // is cut away, so that a sphere and its periodic image each show their part inside the box.
+  std::optional<std::array<float, 6>> clip_box;
 };
 
 // Texture coordinate of category k in a categorical map of n entries (k mod n, centred).

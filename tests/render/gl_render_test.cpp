@@ -170,6 +170,44 @@ TEST_P(GlRender, PeriodicDisksShowTheirImageAndAreClippedToTheBox) {
   }
 }
 
+TEST_P(GlRender, PeriodicSpheresShowTheirImageAndAreCutAtTheBox) {
+  // A sphere across the +x face of a box periodic in x, seen orthographically along +y (x
+  // to the right, z up): its image shows inside the −x face and nothing is drawn beyond
+  // the +x face; without the flag, the reverse. Also at an edge (periodic in x and z) the
+  // diagonal image shows in the opposite corner.
+  Snapshot s;
+  s.dim = 3;
+  s.lo = {0, 0, 0};
+  s.hi = {10, 10, 10};
+  s.pos_radius = {9.5f, 5.f, 5.f, 1.5f};
+  FrameStyle style = plain_style();
+  style.camera.azimuth_deg = -90.0;
+  style.camera.elevation_deg = 0.0;
+  style.camera.orthographic = true;
+  const int w = 200, h = 200;
+  FrameRenderer r(*ctx_, w, h);
+  const ViewTransform view = fit_3d(s.lo, s.hi, style.camera, w, h);
+  const auto lit_at = [&](const Image& img, double x, double z) {
+    const Eigen::Vector4f c = view.view_proj() * Eigen::Vector4f(float(x), 5.f, float(z), 1.f);
+    return lit(img, int(std::lround((c.x() + 1) * 0.5 * w)), int(std::lround((1 - c.y()) * 0.5 * h)));
+  };
+  for (bool periodic : {true, false}) {
+    s.periodic = {periodic, false, false};
+    const Image& img = r.render(s, style);
+    EXPECT_TRUE(lit_at(img, 9.0, 5.0)) << "periodic = " << periodic;              // the sphere itself
+    EXPECT_EQ(lit_at(img, 0.4, 5.0), periodic) << "periodic = " << periodic;      // its image
+    EXPECT_EQ(lit_at(img, 10.6, 5.0), !periodic) << "periodic = " << periodic;    // beyond the box
+  }
+  s.pos_radius = {9.5f, 5.f, 9.5f, 1.5f};
+  s.periodic = {true, false, true};
+  const Image& img = r.render(s, style);
+  EXPECT_TRUE(lit_at(img, 0.4, 0.4));    // the diagonal image
+  EXPECT_TRUE(lit_at(img, 0.4, 9.5));    // the x image
+  EXPECT_TRUE(lit_at(img, 9.5, 0.4));    // the z image
+  EXPECT_FALSE(lit_at(img, 10.6, 9.5));  // beyond the box in x
+  EXPECT_FALSE(lit_at(img, 9.5, 10.6));  // and in z
+}
+
 // A dense block of spheres: culling hidden spheres on the CPU draws far fewer of them and
 // leaves the picture unchanged, in perspective and in orthographic views.
 TEST_P(GlRender, SphereCullingKeepsThePicture) {

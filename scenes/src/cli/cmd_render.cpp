@@ -413,7 +413,7 @@ void setup_render_command(CLI::App& app, int& status) {
       ->expected(3);
   cmd->add_option("--distance", args->distance, "3D: camera distance from the target (default: the box fits)");
   cmd->add_flag("!--no-periodic-images", args->periodic_images,
-                "2D: do not draw disks across the periodic edges the file declares (LAMMPS pp, XYZ pbc) on both sides");
+                "do not draw particles across the periodic edges/faces the file declares (LAMMPS pp, XYZ pbc) on both sides");
   cmd->add_flag("!--no-annotations", args->annotations,
                 "One bare picture: no title, colour bar, legend or time caption");
   cmd->add_flag("!--no-png", args->png, "Do not write the PNG sequence");
