@@ -8,25 +8,15 @@ namespace grainflow::dem {
 std::vector<int> contact_numbers(const Simulation& sim) {
   const std::size_t n = sim.size();
   const NeighborList& list = sim.neighbors();
-  const BoxConfig& box = sim.config().box;
   std::vector<int> z(n, 0);
   // Every touching pair is in the Verlet table (its search distance exceeds the sum of
-  // the radii); the image of j nearest to i is the one that can touch (diameters are at
-  // most a third of a periodic length).
-  for (std::size_t i = 0; i < n; ++i) {
-    const Vec3 xi = sim.position(i);
+  // the radii), with the periodic image it touches through.
+  for (std::size_t i = 0; i < n; ++i)
     for (std::uint32_t q = list.first[i]; q < list.first[i + 1]; ++q) {
       const std::uint32_t j = list.partner[q];
-      Vec3 d = sim.position(j) - xi;
-      for (int a = 0; a < 3; ++a)
-        if (box.periodic[std::size_t(a)]) {
-          const double L = box.hi[a] - box.lo[a];
-          d[a] -= L * std::round(d[a] / L);
-        }
       const double rs = sim.radius(i) + sim.radius(j);
-      if (d.squaredNorm() < rs * rs) ++z[i], ++z[j];
+      if (sim.centre_distance_sq(i, q) < rs * rs) ++z[i], ++z[j];
     }
-  }
   return z;
 }
 

@@ -131,6 +131,9 @@ public:
   Vec3 torque(std::size_t i) const;
   const Particles& particles() const { return p_; }     // raw arrays (v, w at the half step)
   const NeighborList& neighbors() const { return list_; }
+  // Squared centre distance of table entry q of particle i (periodic shift applied): the
+  // one contact test of the engine, its stats and its packing measures.
+  double centre_distance_sq(std::size_t i, std::uint32_t q) const;
   const ContactLaw& contact_law() const { return *law_; }
   Stats stats() const;
   // Stats::pressure_tensor alone (no contact count): O(N) [Pa].
@@ -162,9 +165,6 @@ private:
   void finish_integrate();
   void update_wall_near();
   void grow_radii();  // FINDRAD step
-  // Squared centre distance of table entry q of particle i (periodic shift applied).
-  double centre_distance_sq(std::size_t i, std::uint32_t q) const;
-
   Config cfg_;
   Particles p_;
   Box box_;
