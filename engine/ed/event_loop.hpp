@@ -527,7 +527,12 @@ private:
   // memory, not arithmetic), then compute branch-free. Candidates are visited in the
   // cells' order, so ties resolve as in a plain cell-by-cell scan.
   void scan_cells(int i, const Disk& di, const int* cells, const double* shx, const double* shy, int nc,
-                  double& best, int& who, EventKind& kind) {
+                  double& best_out, int& who_out, EventKind& kind_out) {
+    // Locals, so that the running minimum stays in registers (the references could alias
+    // the stores below).
+    double best = best_out;
+    int who = who_out;
+    EventKind kind = kind_out;
     const CellGrid& g = s_.grid;
     const std::size_t need = static_cast<std::size_t>(nc) * static_cast<std::size_t>(g.capacity());
     if (cand_.size() < need) cand_.resize(need);
@@ -557,6 +562,7 @@ private:
 #if defined(__SSE2__)
     const __m128d vnow = _mm_set1_pd(now), zero = _mm_setzero_pd(), never = _mm_set1_pd(kNever);
     const __m128d sign = _mm_set1_pd(-0.0);
+    const __m128d vlimit = _mm_set1_pd(2.0 * (1.0 + 1e-12));
     const __m128d ix = _mm_set1_pd(di.x), iy = _mm_set1_pd(di.y), ivx = _mm_set1_pd(di.vx),
                   ivy = _mm_set1_pd(di.vy), ir = _mm_set1_pd(di.r);
     for (; k + 1 < n; k += 2) {
@@ -575,9 +581,16 @@ private:
       const __m128d v2 = _mm_add_pd(_mm_mul_pd(dvx, dvx), _mm_mul_pd(dvy, dvy));
       const __m128d c = _mm_sub_pd(_mm_add_pd(_mm_mul_pd(dx, dx), _mm_mul_pd(dy, dy)), _mm_mul_pd(sigma, sigma));
       const __m128d disc = _mm_sub_pd(_mm_mul_pd(b, b), _mm_mul_pd(v2, c));
+      const __m128d ok = _mm_and_pd(_mm_cmplt_pd(b, zero), _mm_cmpge_pd(disc, zero));
+      // Neither lane can beat `best`: skip the division and the square root, the scan's
+      // longest dependency chain. With c ≥ 0, √D ≤ |b|, so t = c/(|b| + √D) ≥ c/(2|b|);
+      // a lane is left out only when c ≥ 2|b| best (1 + 1e-12), which leaves a margin far
+      // above the few ulp of rounding in t: the skipped lanes' t would not have been
+      // taken, and the result is the same, bit for bit, as without the test.
+      const __m128d reach = _mm_mul_pd(_mm_mul_pd(_mm_andnot_pd(sign, b), vlimit), _mm_set1_pd(best));
+      if (_mm_movemask_pd(_mm_and_pd(ok, _mm_cmplt_pd(c, reach))) == 0) continue;
       const __m128d root = _mm_div_pd(c, _mm_add_pd(_mm_xor_pd(b, sign), _mm_sqrt_pd(disc)));
       const __m128d t = _mm_andnot_pd(_mm_cmple_pd(c, zero), root);  // contact now: +0
-      const __m128d ok = _mm_and_pd(_mm_cmplt_pd(b, zero), _mm_cmpge_pd(disc, zero));
       alignas(16) double tt[2];
       _mm_store_pd(tt, _mm_or_pd(_mm_and_pd(ok, t), _mm_andnot_pd(ok, never)));
       if (tt[0] < best) {
@@ -604,6 +617,9 @@ private:
         kind = EventKind::Pair;
       }
     }
+    best_out = best;
+    who_out = who;
+    kind_out = kind;
   }
 
   void scan_agents(int i, int c, double& best, int& who, EventKind& kind) const {
