@@ -27,12 +27,12 @@ void CircularObstacle::cells(const CellGrid& g, std::vector<int>& out) const {
 }
 
 double CircularObstacle::event_time(const SystemState& s, int i) const {
-  const Disk& d = s.disk[i];
+  const DiskNow d = s.disk_now(i);
   return pair_collision_time(d.x - cfg_.centre.x(), d.y - cfg_.centre.y(), d.vx, d.vy, cfg_.radius + d.r);
 }
 
 void CircularObstacle::action(SystemState& s, int i) {
-  const Disk& d = s.disk[i];
+  const DiskNow d = s.disk_now(i);
   const double rx = d.x - cfg_.centre.x(), ry = d.y - cfg_.centre.y();
   const double inv = 1.0 / std::hypot(rx, ry);
   const double nx = rx * inv, ny = ry * inv;  // outward normal
@@ -46,14 +46,14 @@ void CircularObstacle::action(SystemState& s, int i) {
       if (rng_.uniform() < 0.5) vt1 = -vt;
       break;
     case ObstacleBoundary::thermal: {
-      const WallFrameVelocity v = thermal_reemission(rng_, cfg_.kT, s.disk[i].m);
+      const WallFrameVelocity v = thermal_reemission(rng_, cfg_.kT, s.body[i].m);
       vn1 = v.normal;
       vt1 = v.tangential;
       break;
     }
   }
   const double vx = vn1 * nx - vt1 * ny, vy = vn1 * ny + vt1 * nx;
-  impulse_ -= s.disk[i].m * Vec2{vx - d.vx, vy - d.vy};
+  impulse_ -= s.body[i].m * Vec2{vx - d.vx, vy - d.vy};
   ++hits_;
   s.set_velocity(i, vx, vy);
 }

@@ -21,8 +21,8 @@ DenseStream add_dense_stream(Simulation& sim, const DenseStreamConfig& cfg) {
   double radius = 0.5, mass = 1.0;
   for (int i = 0; i < s.size(); ++i)
     if (s.present(i)) {
-      radius = s.disk[i].r;
-      mass = s.disk[i].m;
+      radius = s.body[i].r;
+      mass = s.body[i].m;
       break;
     }
   // The strip must lie well before the filter, the filter a radius before the outlet.

@@ -38,7 +38,7 @@ void DispenserPiston::cells(const CellGrid& g, std::vector<int>& out) const {
 
 double DispenserPiston::event_time(const SystemState& s, int i) const {
   if (s.frozen(i)) return kNever;
-  const Disk& d = s.disk[i];
+  const DiskNow d = s.disk_now(i);
   const double closing = cfg_.U - d.vx;  // piston overtakes the disk's left edge
   if (!(closing > 0.0)) return kNever;
   const double dt = std::max(0.0, d.x - d.r - position(s.now())) / closing;
@@ -47,17 +47,17 @@ double DispenserPiston::event_time(const SystemState& s, int i) const {
 }
 
 void DispenserPiston::action(SystemState& s, int i) {
-  const Disk& d = s.disk[i];
+  const DiskNow d = s.disk_now(i);
   if (cfg_.local_kT) arrivals_.observe(d.vy);
   double vx = 2.0 * cfg_.U - d.vx, vy = d.vy;  // specular in the piston frame
   if (cfg_.piston == PistonKind::thermal) {
     // Diffuse re-emission from a wall at the stream temperature moving at U [TTKB98]: the
     // flux-weighted normal speed has the Rayleigh density, the tangential one is Gaussian.
-    const double s2 = kT() / s.disk[i].m;
+    const double s2 = kT() / s.body[i].m;
     vx = cfg_.U + std::sqrt(-2.0 * s2 * std::log(rng_.uniform_pos()));
     vy = std::sqrt(s2) * rng_.normal();
   }
-  impulse_x_ += s.disk[i].m * (vx - d.vx);
+  impulse_x_ += s.body[i].m * (vx - d.vx);
   ++hits_;
   s.set_velocity(i, vx, vy);
 }

@@ -57,14 +57,14 @@ double wall_time(double p, double v, double r, double l) {
 }  // namespace
 
 double ElasticWalls::event_time(const SystemState& s, int i) const {
-  const Disk& d = s.disk[i];
+  const DiskNow d = s.disk_now(i);
   const double tx = wx_ ? wall_time(d.x, d.vx, d.r, lx_) : kNever;
   const double ty = wy_ ? wall_time(d.y, d.vy, d.r, ly_) : kNever;
   return std::min(tx, ty);
 }
 
 void ElasticWalls::action(SystemState& s, int i) {
-  const Disk& d = s.disk[i];
+  const DiskNow d = s.disk_now(i);
   const double tx = wx_ ? wall_time(d.x, d.vx, d.r, lx_) : kNever;
   const double ty = wy_ ? wall_time(d.y, d.vy, d.r, ly_) : kNever;
   const bool on_x = tx <= ty;

@@ -154,6 +154,7 @@ private:
   void process(int e) {
     ++s_.stats.events;
     s_.advance_clock(s_.event[e].key);
+    s_.maybe_rebase();
     const int n = s_.size();
     // Software pipelining: the memory of the coming events is fetched in stages while this
     // one runs (see prefetch_entry … prefetch_partner_neighbourhood), and this event's own
@@ -185,37 +186,37 @@ private:
   }
 
   void collide(int i, int j) {
-    s_.synchronise(i);
-    s_.synchronise(j);
-    Disk& a = s_.disk[i];
-    Disk& b = s_.disk[j];
+    const Disk& a = s_.disk[i];
+    const Disk& b = s_.disk[j];
+    DiskBody& ba = s_.body[i];
+    DiskBody& bb = s_.body[j];
     double sx, sy;
     s_.grid.image_shift(s_.grid.cell(i), s_.grid.cell(j), sx, sy);
-    const double rx = a.x - (b.x + sx), ry = a.y - (b.y + sy);
-    const double m1 = a.m, m2 = b.m;
+    // The separation now, from the epoch records: (x_a − x_b) + (v_a − v_b)(now − epoch).
+    const double dt = s_.since_epoch();
+    const double rx = (a.x + a.vx * dt) - (b.x + b.vx * dt + sx), ry = (a.y + a.vy * dt) - (b.y + b.vy * dt + sy);
+    const double m1 = ba.m, m2 = bb.m;
     // TC model (inelastic runs with a cutoff only; elastic ones never enter).
     const CollisionParams* rule = &s_.rule;
     if (s_.tc_on()) [[unlikely]] {
-      const TcVerdict v = tc_verdict(i, j, rx * rx + ry * ry, a.r + b.r, false);
+      const TcVerdict v = tc_verdict(i, j, rx * rx + ry * ry, ba.r + bb.r, false);
       if (v == TcVerdict::removed) return;
       if (v == TcVerdict::elastic) rule = &tc_elastic_rule();
     }
-    const CollisionImpulse J = collision_impulse(rx, ry, a.vx - b.vx, a.vy - b.vy, a.r, b.r,
-                                                 a.w, b.w, m1, m2, *rule);
-    const double k0 = 0.5 * (m1 * (a.vx * a.vx + a.vy * a.vy) + m2 * (b.vx * b.vx + b.vy * b.vy));
-    const double avx = a.vx, avy = a.vy, bvx = b.vx, bvy = b.vy;  // for the kinetic tensor
-    a.vx += J.jx / m1;
-    a.vy += J.jy / m1;
-    b.vx -= J.jx / m2;
-    b.vy -= J.jy / m2;
+    const CollisionImpulse J = collision_impulse(rx, ry, a.vx - b.vx, a.vy - b.vy, ba.r, bb.r,
+                                                 ba.w, bb.w, m1, m2, *rule);
+    const double avx = a.vx, avy = a.vy, bvx = b.vx, bvy = b.vy;  // before, for the books
+    const double k0 = 0.5 * (m1 * (avx * avx + avy * avy) + m2 * (bvx * bvx + bvy * bvy));
+    s_.assign_velocity(i, avx + J.jx / m1, avy + J.jy / m1);
+    s_.assign_velocity(j, bvx - J.jx / m2, bvy - J.jy / m2);
     const double k1 = 0.5 * (m1 * (a.vx * a.vx + a.vy * a.vy) + m2 * (b.vx * b.vx + b.vy * b.vy));
     double drot = 0.0;
     if (J.dw1 != 0.0 || J.dw2 != 0.0) {
-      const double w1 = a.w, w2 = b.w;
-      a.w += J.dw1;
-      b.w += J.dw2;
-      drot = 0.5 * (s_.inertia(i) * (a.w * a.w - w1 * w1) +
-                    s_.inertia(j) * (b.w * b.w - w2 * w2));
+      const double w1 = ba.w, w2 = bb.w;
+      ba.w += J.dw1;
+      bb.w += J.dw2;
+      drot = 0.5 * (s_.inertia(i) * (ba.w * ba.w - w1 * w1) +
+                    s_.inertia(j) * (bb.w * bb.w - w2 * w2));
     }
     s_.add_kinetic(k1 - k0, drot, 0.0, 0.0);
     s_.add_kinetic_tensor(m1, avx, avy, a.vx, a.vy);
@@ -236,7 +237,6 @@ private:
 
   void crossing(int i) {
     ++s_.stats.cell_crossings;
-    s_.synchronise(i);
     CellGrid& g = s_.grid;
     Disk& d = s_.disk[i];
     const int from = g.cell(i);
@@ -262,7 +262,7 @@ private:
       double best = held;
       int who = ev.partner;
       EventKind kind = ev.kind;
-      const Disk di = d;
+      const Disk di = now_record(i);
       int cells[3];
       double shx[3], shy[3];
       int nc = 0;
@@ -293,7 +293,7 @@ private:
             }
           }
       }
-      scan_cells(i, di, cells, shx, shy, nc, best, who, kind);
+      scan_cells(i, di, s_.body[i].r, cells, shx, shy, nc, best, who, kind);
       scan_agents(i, to, best, who, kind);
       if (best < held) store_pair(i, best, who, kind);  // else keep the held event bit-exact
       schedule(i);
@@ -303,7 +303,6 @@ private:
 
   void agent_event(int i, int a) {
     ++s_.stats.agent_events;
-    s_.synchronise(i);
     s_.agents[a]->action(s_, i);
     settle_changes();
     if (s_.present(i)) {  // the action may have removed it (outlet)
@@ -399,33 +398,33 @@ private:
   // the frozen disk keeps its velocity and stays outside the books (Fig. 3.8).
   void collide_frozen(int i, int j) {
     if (s_.frozen(i)) std::swap(i, j);  // i: the mobile disk (if any)
-    s_.synchronise(i);
-    s_.synchronise(j);
+    const Disk& a = s_.disk[i];
+    const Disk& b = s_.disk[j];
+    DiskBody& ba = s_.body[i];
+    const DiskBody& bb = s_.body[j];
+    double sx, sy;
+    s_.grid.image_shift(s_.grid.cell(i), s_.grid.cell(j), sx, sy);
+    const double dt = s_.since_epoch();
+    const double rx = (a.x + a.vx * dt) - (b.x + b.vx * dt + sx), ry = (a.y + a.vy * dt) - (b.y + b.vy * dt + sy);
     if (!s_.frozen(i)) {
-      Disk& a = s_.disk[i];
-      const Disk& b = s_.disk[j];
-      double sx, sy;
-      s_.grid.image_shift(s_.grid.cell(i), s_.grid.cell(j), sx, sy);
-      const double rx = a.x - (b.x + sx), ry = a.y - (b.y + sy);
-      const double m = a.m;
+      const double m = ba.m;
       const CollisionParams* rule = &s_.rule;
       if (s_.tc_on()) [[unlikely]] {  // the mobile disk's clock alone: a frozen disk is a wall
-        const TcVerdict v = tc_verdict(i, j, rx * rx + ry * ry, a.r + b.r, true);
+        const TcVerdict v = tc_verdict(i, j, rx * rx + ry * ry, ba.r + bb.r, true);
         if (v == TcVerdict::removed) return;
         if (v == TcVerdict::elastic) rule = &tc_elastic_rule();
       }
-      const CollisionImpulse J = collision_impulse_heavy(rx, ry, a.vx - b.vx, a.vy - b.vy, a.r, b.r, a.w,
-                                                         b.w, m, *rule);
-      const double k0 = 0.5 * m * (a.vx * a.vx + a.vy * a.vy);
-      const double avx = a.vx, avy = a.vy;  // for the kinetic tensor
-      a.vx += J.jx / m;
-      a.vy += J.jy / m;
+      const CollisionImpulse J = collision_impulse_heavy(rx, ry, a.vx - b.vx, a.vy - b.vy, ba.r, bb.r, ba.w,
+                                                         bb.w, m, *rule);
+      const double avx = a.vx, avy = a.vy;  // before, for the books
+      const double k0 = 0.5 * m * (avx * avx + avy * avy);
+      s_.assign_velocity(i, avx + J.jx / m, avy + J.jy / m);
       const double k1 = 0.5 * m * (a.vx * a.vx + a.vy * a.vy);
       double drot = 0.0;
       if (J.dw1 != 0.0) {
-        const double w1 = a.w;
-        a.w += J.dw1;
-        drot = 0.5 * s_.inertia(i) * (a.w * a.w - w1 * w1);
+        const double w1 = ba.w;
+        ba.w += J.dw1;
+        drot = 0.5 * s_.inertia(i) * (ba.w * ba.w - w1 * w1);
       }
       s_.add_kinetic(k1 - k0, drot, J.jx, J.jy);  // the frozen disk absorbs −J
       s_.add_kinetic_tensor(m, avx, avy, a.vx, a.vy);
@@ -437,17 +436,10 @@ private:
     } else {
       // Two frozen disks only meet when agents froze them at different velocities: equal
       // (infinite) masses, smooth, elastic; outside the books.
-      Disk& a = s_.disk[i];
-      Disk& b = s_.disk[j];
-      double sx, sy;
-      s_.grid.image_shift(s_.grid.cell(i), s_.grid.cell(j), sx, sy);
-      const double rx = a.x - (b.x + sx), ry = a.y - (b.y + sy);
-      const CollisionImpulse J = collision_impulse(rx, ry, a.vx - b.vx, a.vy - b.vy, a.r, b.r, 0.0, 0.0, 1.0, 1.0,
+      const CollisionImpulse J = collision_impulse(rx, ry, a.vx - b.vx, a.vy - b.vy, ba.r, bb.r, 0.0, 0.0, 1.0, 1.0,
                                                    CollisionParams{});
-      a.vx += J.jx;
-      a.vy += J.jy;
-      b.vx -= J.jx;
-      b.vy -= J.jy;
+      s_.assign_velocity(i, a.vx + J.jx, a.vy + J.jy);
+      s_.assign_velocity(j, b.vx - J.jx, b.vy - J.jy);
       ++s_.stats.collisions;
       ++s_.counter[i];
       ++s_.counter[j];
@@ -463,7 +455,7 @@ private:
   // ---- TC model (Luding & McNamara 1998; seed 003 ch. 5) --------------------------------
   enum class TcVerdict { inelastic, elastic, removed };
 
-  // Decides a collision of i and j (both synchronised; r2: their squared distance at
+  // Decides a collision of i and j (r2: their squared distance now, at
   // contact, sigma: the sum of radii) with the TC model on. dt: the time since the more
   // recent of the two parties' previous disk–disk collisions (with j frozen, a wall:
   // i's alone).
@@ -526,7 +518,8 @@ private:
   // cache misses of the neighbourhood are in flight together (at large N the scan waits on
   // memory, not arithmetic), then compute branch-free. Candidates are visited in the
   // cells' order, so ties resolve as in a plain cell-by-cell scan.
-  void scan_cells(int i, const Disk& di, const int* cells, const double* shx, const double* shy, int nc,
+  // di: disk i's position now (not at the epoch) and velocity; ri: its radius.
+  void scan_cells(int i, const Disk& di, double ri, const int* cells, const double* shx, const double* shy, int nc,
                   double& best_out, int& who_out, EventKind& kind_out) {
     // Locals, so that the running minimum stays in registers (the references could alias
     // the stores below).
@@ -557,18 +550,22 @@ private:
     }
     // Two candidates per step in SSE2 lanes (the same IEEE operations in the same order
     // as pair_collision_time, so the same bits); the minimum is then taken in candidate order.
-    const double now = s_.now();
+    // Each candidate is taken to now from the common epoch; with disks of one size the
+    // sum of radii is a constant and the bodies are not read.
+    const double since = s_.since_epoch();
+    const double ur = s_.uniform_radius();
+    const bool mixed = !(ur > 0.0);
+    const DiskBody* __restrict body = s_.body.data();
     int k = 0;
 #if defined(__SSE2__)
-    const __m128d vnow = _mm_set1_pd(now), zero = _mm_setzero_pd(), never = _mm_set1_pd(kNever);
+    const __m128d dt = _mm_set1_pd(since), zero = _mm_setzero_pd(), never = _mm_set1_pd(kNever);
     const __m128d sign = _mm_set1_pd(-0.0);
     const __m128d vlimit = _mm_set1_pd(2.0 * (1.0 + 1e-12));
     const __m128d ix = _mm_set1_pd(di.x), iy = _mm_set1_pd(di.y), ivx = _mm_set1_pd(di.vx),
-                  ivy = _mm_set1_pd(di.vy), ir = _mm_set1_pd(di.r);
+                  ivy = _mm_set1_pd(di.vy), ir = _mm_set1_pd(ri), usigma = _mm_set1_pd(ri + ur);
     for (; k + 1 < n; k += 2) {
       const Disk& p = disk[cand[k].j];
       const Disk& q = disk[cand[k + 1].j];
-      const __m128d dt = _mm_sub_pd(vnow, _mm_set_pd(q.t, p.t));
       const __m128d vx = _mm_set_pd(q.vx, p.vx), vy = _mm_set_pd(q.vy, p.vy);
       const __m128d jx = _mm_add_pd(_mm_add_pd(_mm_set_pd(q.x, p.x), _mm_mul_pd(vx, dt)),
                                     _mm_set_pd(shx[cand[k + 1].k], shx[cand[k].k]));
@@ -576,7 +573,8 @@ private:
                                     _mm_set_pd(shy[cand[k + 1].k], shy[cand[k].k]));
       const __m128d dx = _mm_sub_pd(ix, jx), dy = _mm_sub_pd(iy, jy);
       const __m128d dvx = _mm_sub_pd(ivx, vx), dvy = _mm_sub_pd(ivy, vy);
-      const __m128d sigma = _mm_add_pd(ir, _mm_set_pd(q.r, p.r));
+      const __m128d sigma =
+          mixed ? _mm_add_pd(ir, _mm_set_pd(body[cand[k + 1].j].r, body[cand[k].j].r)) : usigma;
       const __m128d b = _mm_add_pd(_mm_mul_pd(dx, dvx), _mm_mul_pd(dy, dvy));
       const __m128d v2 = _mm_add_pd(_mm_mul_pd(dvx, dvx), _mm_mul_pd(dvy, dvy));
       const __m128d c = _mm_sub_pd(_mm_add_pd(_mm_mul_pd(dx, dx), _mm_mul_pd(dy, dy)), _mm_mul_pd(sigma, sigma));
@@ -607,10 +605,9 @@ private:
 #endif
     for (; k < n; ++k) {
       const Disk& dj = disk[cand[k].j];
-      const double dt = now - dj.t;
-      const double t = pair_collision_time_branchless(di.x - (dj.x + dj.vx * dt + shx[cand[k].k]),
-                                                      di.y - (dj.y + dj.vy * dt + shy[cand[k].k]),
-                                                      di.vx - dj.vx, di.vy - dj.vy, di.r + dj.r);
+      const double t = pair_collision_time_branchless(
+          di.x - (dj.x + dj.vx * since + shx[cand[k].k]), di.y - (dj.y + dj.vy * since + shy[cand[k].k]),
+          di.vx - dj.vx, di.vy - dj.vy, ri + (mixed ? body[cand[k].j].r : ur));
       if (t < best) {
         best = t;
         who = cand[k].j;
@@ -645,9 +642,8 @@ private:
 
   // Full prediction for disk i over its 3×3 neighbourhood (§2.2) and its cell's agents.
   void predict_full(int i) {
-    s_.synchronise(i);
     const CellGrid& g = s_.grid;
-    const Disk di = s_.disk[i];
+    const Disk di = now_record(i);
     const int c = g.cell(i);
     const int ix = g.ix(c), iy = g.iy(c);
     double best = kNever;
@@ -675,7 +671,7 @@ private:
         }
       }
     }
-    scan_cells(i, di, cells, shx, shy, nc, best, who, kind);
+    scan_cells(i, di, s_.body[i].r, cells, shx, shy, nc, best, who, kind);
     scan_agents(i, c, best, who, kind);
     store_pair(i, best, who, kind);
     schedule(i);
@@ -687,7 +683,7 @@ private:
   // crossing.
   void schedule(int i) {
     const CellGrid& g = s_.grid;
-    const Disk& d = s_.disk[i];
+    const Disk d = now_record(i);
     const int c = g.cell(i);
     const int ix = g.ix(c), iy = g.iy(c);
     double tx = kNever, ty = kNever;
@@ -711,6 +707,13 @@ private:
     ev.cross_dir = use_x ? dx : dy;
     ev.crossing = cross_time <= ev.pair_time;
     ev.key = std::min(ev.pair_time, cross_time);
+  }
+
+  // Disk i's record with its position now instead of at the epoch.
+  Disk now_record(int i) const {
+    const Disk& d = s_.disk[i];
+    const double dt = s_.since_epoch();
+    return Disk{d.x + d.vx * dt, d.y + d.vy * dt, d.vx, d.vy};
   }
 
   struct Candidate {

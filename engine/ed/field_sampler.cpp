@@ -105,8 +105,8 @@ void FieldSampler::action(SystemState& s) {
     // Cells keep disks inside the box up to round-off; wrap periodic coordinates exactly.
     if (g.periodic_x()) p.x() -= g.lx() * std::floor(p.x() / g.lx());
     if (g.periodic_y()) p.y() -= g.ly() * std::floor(p.y() / g.ly());
-    const Disk& d = s.disk[i];
-    acc_.deposit({p.x(), p.y(), 0.0}, {d.vx, d.vy, 0.0}, d.r, s.disk[i].m);
+    const DiskNow d = s.disk_now(i);
+    acc_.deposit({p.x(), p.y(), 0.0}, {d.vx, d.vy, 0.0}, d.r, s.body[i].m);
   }
   acc_.end_frame();
   if (k_ % per_exposure_ == 0) {

@@ -91,14 +91,17 @@ void Simulation::build(std::vector<DiskInit> disks) {
   s_.rule = CollisionParams{cfg_.e, cfg_.e_t, cfg_.mu, 0.5};
   s_.tc = TimeCutoff{cfg_.tau_tc, cfg_.tau_tc_step};
   s_.disk.resize(n);
+  s_.body.resize(n);
   s_.counter.assign(n, 0);
   s_.grid.resize_particles(n);
   for (int i = 0; i < n; ++i) {
     const DiskInit& d = disks[i];
-    s_.disk[i] = Disk{d.r.x(), d.r.y(), d.v.x(), d.v.y(), 0.0, d.radius, d.mass, d.omega};
+    s_.disk[i] = Disk{d.r.x(), d.r.y(), d.v.x(), d.v.y()};
+    s_.body[i] = DiskBody{d.radius, d.mass, d.omega};
     s_.grid.insert(i, s_.grid.cell_of_point(d.r.x(), d.r.y()));
   }
   s_.reset_slots();
+  s_.reset_disks();
   assign_tags(disks);
   // Overlaps are an impossible configuration, not something to resolve silently.
   const double gap = min_gap();
@@ -170,12 +173,14 @@ void Simulation::compact(const std::vector<int>& kept) {
   const int n = static_cast<int>(kept.size());
   std::vector<SlotState> states(n);
   std::vector<Disk> disks(static_cast<std::size_t>(n));
+  std::vector<DiskBody> bodies(static_cast<std::size_t>(n));
   std::vector<std::uint32_t> counters(static_cast<std::size_t>(n));
   std::vector<double> last(s_.last_collision.empty() ? 0 : static_cast<std::size_t>(n));
   std::vector<std::int64_t> tags(static_cast<std::size_t>(n));
   for (int k = 0; k < n; ++k) {
     const int i = kept[k];
     disks[k] = s_.disk[i];
+    bodies[k] = s_.body[i];
     counters[k] = s_.counter[i];
     states[k] = s_.slot[i];
     tags[k] = s_.tag[i];  // the disk keeps its id in its new slot
@@ -184,19 +189,22 @@ void Simulation::compact(const std::vector<int>& kept) {
   s_.last_collision = std::move(last);
   s_.reset_tags(std::move(tags), s_.next_tag());
   s_.disk.assign(disks.begin(), disks.end());
+  s_.body.assign(bodies.begin(), bodies.end());
   s_.counter.assign(counters.begin(), counters.end());
   s_.grid = CellGrid(s_.grid.lx(), s_.grid.ly(), s_.grid.periodic_x(), s_.grid.periodic_y(),
                      cfg_.min_cell_size, std::max(1e-12, [&] {
                        double d = kNever;
-                       for (const Disk& x : s_.disk) d = std::min(d, 2.0 * x.r);
+                       for (const DiskBody& x : s_.body) d = std::min(d, 2.0 * x.r);
                        return n ? d : 1.0;
                      }()));
   s_.grid.resize_particles(n);
+  // The caller synchronised: the records hold the positions now.
   for (int i = 0; i < n; ++i) s_.grid.insert(i, s_.grid.cell_of_point(s_.disk[i].x, s_.disk[i].y));
   s_.reset_slots(std::move(states));
+  s_.reset_disks();
   {
     double dmin = kNever;
-    for (const Disk& x : s_.disk) dmin = std::min(dmin, 2.0 * x.r);
+    for (const DiskBody& x : s_.body) dmin = std::min(dmin, 2.0 * x.r);
     s_.set_diameter_range(n ? dmin : 1.0, std::min(s_.grid.width(), s_.grid.height()));
   }
   s_.recompute_books();
@@ -247,8 +255,8 @@ CircularObstacle& Simulation::add_obstacle(const ObstacleConfig& o) {
     throw Error(fmt::format("ed: obstacle restitution = {} is invalid; allowed: 0 <= r <= 1", o.restitution));
   if (!(o.kT > 0.0)) throw Error(fmt::format("ed: obstacle kT = {} is invalid; it must be positive", o.kT));
   remove_disks_unless([&](int i) {
-    const Disk& d = s_.disk[i];
-    return std::hypot(d.x - c.x(), d.y - c.y()) >= o.radius + d.r;
+    const Vec2 p = s_.position_now(i);
+    return std::hypot(p.x() - c.x(), p.y() - c.y()) >= o.radius + s_.body[i].r;
   });
   return static_cast<CircularObstacle&>(*add_agent(std::make_unique<CircularObstacle>(o)));
 }
@@ -294,17 +302,15 @@ bool CollapseGuard::collapsed(const Simulation& sim) {
   return dt < ratio_ * dn * (t / double(events));
 }
 
-void Simulation::synchronise() {
-  for (int i = 0; i < s_.size(); ++i)
-    if (s_.present(i)) s_.synchronise(i);
-}
+void Simulation::synchronise() { s_.rebase(); }
 
 double Simulation::kinetic_energy() const {
   double k = 0.0;
   for (int i = 0; i < s_.size(); ++i) {
     if (s_.slot[i] != SlotState::present) continue;
     const Disk& d = s_.disk[i];
-    k += 0.5 * d.m * (d.vx * d.vx + d.vy * d.vy) + 0.5 * s_.inertia(i) * d.w * d.w;
+    const DiskBody& b = s_.body[i];
+    k += 0.5 * b.m * (d.vx * d.vx + d.vy * d.vy) + 0.5 * s_.inertia(i) * b.w * b.w;
   }
   return k;
 }
@@ -312,14 +318,14 @@ double Simulation::kinetic_energy() const {
 Vec2 Simulation::momentum() const {
   Vec2 p{0.0, 0.0};
   for (int i = 0; i < s_.size(); ++i)
-    if (s_.slot[i] == SlotState::present) p += s_.disk[i].m * Vec2{s_.disk[i].vx, s_.disk[i].vy};
+    if (s_.slot[i] == SlotState::present) p += s_.body[i].m * Vec2{s_.disk[i].vx, s_.disk[i].vy};
   return p;
 }
 
 double Simulation::area_fraction() const {
   double a = 0.0;
   for (int i = 0; i < s_.size(); ++i)
-    if (s_.present(i)) a += std::numbers::pi * s_.disk[i].r * s_.disk[i].r;
+    if (s_.present(i)) a += std::numbers::pi * s_.body[i].r * s_.body[i].r;
   return a / s_.area();
 }
 
@@ -344,7 +350,7 @@ double Simulation::min_gap() const {
           const int j = g.members(cc)[k];
           if (j <= i) continue;
           const Vec2 pj = s_.position_now(j) + Vec2{sx, sy};
-          gap = std::min(gap, (pi - pj).norm() - s_.disk[i].r - s_.disk[j].r);
+          gap = std::min(gap, (pi - pj).norm() - s_.body[i].r - s_.body[j].r);
         }
       }
   }

@@ -72,7 +72,8 @@ public:
   // At most max_events of them; true when t was reached (else the clock is at the last event).
   bool run_until(double t, std::uint64_t max_events);
   std::uint64_t advance(std::uint64_t events);  // exactly that many events (fewer if none)
-  // Brings every disk to the current time (needed before drawing or reading positions).
+  // Brings every disk record to the current time (the common epoch moves to now; needed
+  // before reading positions from disks()).
   void synchronise();
   double time() const { return s_.now(); }
   double next_event_time() { return loop_->next_event_time(); }
@@ -80,8 +81,10 @@ public:
   int size() const { return s_.size(); }     // disk slots (some may be absent, §3.2–3.3)
   int count() const { return s_.count(); }   // disks present
   bool present(int i) const { return s_.present(i); }
-  const HugeVector<Disk>& disks() const { return s_.disk; }  // each at its own time t
-  double omega(int i) const { return s_.disk[i].w; }  // ω_z of disk i
+  // Positions at state().epoch() (the current time after synchronise()), velocities.
+  const HugeVector<Disk>& disks() const { return s_.disk; }
+  const HugeVector<DiskBody>& bodies() const { return s_.body; }  // radius, mass, spin
+  double omega(int i) const { return s_.body[i].w; }  // ω_z of disk i
   // The persistent id of the disk in slot i (SystemState::tag): what particle files call
   // `id`. Slots are memory places that open streams reuse; ids are disks.
   std::int64_t tag(int i) const { return s_.tag[i]; }

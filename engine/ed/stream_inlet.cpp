@@ -50,7 +50,7 @@ bool StreamInlet::spot_is_free(const SystemState& s, double x, double y) const {
       double dx = p.x() - x, dy = p.y() - y;
       if (g.periodic_x()) dx -= g.lx() * std::round(dx / g.lx());
       if (g.periodic_y()) dy -= g.ly() * std::round(dy / g.ly());
-      const double sig = cfg_.radius + s.disk[j].r;
+      const double sig = cfg_.radius + s.body[j].r;
       if (dx * dx + dy * dy < sig * sig) free = false;
     }
   });
@@ -84,7 +84,7 @@ void StreamInlet::action(SystemState& s) {
 void StreamInletPlane::cells(const CellGrid& grid, std::vector<int>& out) const { plane_cells(grid, x_, out); }
 
 double StreamInletPlane::event_time(const SystemState& s, int i) const {
-  const Disk& d = s.disk[i];
+  const DiskNow d = s.disk_now(i);
   // A disk found behind the plane (round-off) while moving back leaves at once.
   return d.vx < 0.0 ? std::max(0.0, (x_ - d.x) / d.vx) : kNever;
 }

@@ -14,30 +14,48 @@
 
 namespace grainflow::ed {
 
-void SystemState::set_velocity(int i, double vx, double vy) { set_velocity(i, vx, vy, disk[i].w); }
+void SystemState::set_velocity(int i, double vx, double vy) { set_velocity(i, vx, vy, body[i].w); }
 
 void SystemState::set_velocity(int i, double vx, double vy, double w) {
-  synchronise(i);
-  Disk& d = disk[i];
-  if (slot[i] == SlotState::frozen) {  // a moving wall: outside the books
-    d.vx = vx;
-    d.vy = vy;
-    d.w = w;
-    ++counter[i];
-    touched_.push_back(i);
-    return;
+  const Disk& d = disk[i];
+  DiskBody& b = body[i];
+  if (slot[i] != SlotState::frozen) {  // a frozen disk is a moving wall: outside the books
+    const double m = b.m;
+    kin_ += 0.5 * m * (vx * vx + vy * vy - d.vx * d.vx - d.vy * d.vy);
+    rot_ += 0.5 * inertia(i) * (w * w - b.w * b.w);
+    px_ += m * (vx - d.vx);
+    py_ += m * (vy - d.vy);
+    add_kinetic_tensor(m, d.vx, d.vy, vx, vy);
   }
-  const double m = d.m;
-  kin_ += 0.5 * m * (vx * vx + vy * vy - d.vx * d.vx - d.vy * d.vy);
-  rot_ += 0.5 * inertia(i) * (w * w - d.w * d.w);
-  px_ += m * (vx - d.vx);
-  py_ += m * (vy - d.vy);
-  add_kinetic_tensor(m, d.vx, d.vy, vx, vy);
-  d.vx = vx;
-  d.vy = vy;
-  d.w = w;
+  assign_velocity(i, vx, vy);
+  b.w = w;
   ++counter[i];
   touched_.push_back(i);
+}
+
+void SystemState::rebase() {
+  const double dt = now_ - epoch_;
+  if (dt != 0.0) {
+    Disk* d = disk.data();
+    for (std::size_t i = 0, n = disk.size(); i < n; ++i) {
+      d[i].x += d[i].vx * dt;
+      d[i].y += d[i].vy * dt;
+    }
+  }
+  epoch_ = now_;
+}
+
+void SystemState::reset_disks() {
+  epoch_ = now_;
+  next_rebase_ = stats.events + rebase_period();
+  uniform_r_ = -1.0;  // no disk yet
+  for (int i = 0; i < size(); ++i) {
+    if (i == 0) uniform_r_ = body[i].r;
+    else if (body[i].r != uniform_r_) {
+      uniform_r_ = 0.0;
+      break;
+    }
+  }
 }
 
 void SystemState::recompute_books() {
@@ -46,12 +64,13 @@ void SystemState::recompute_books() {
   for (int i = 0; i < size(); ++i) {
     if (slot[i] != SlotState::present) continue;
     const Disk& d = disk[i];
-    kin_ += 0.5 * d.m * (d.vx * d.vx + d.vy * d.vy);
-    add_kinetic_tensor(d.m, 0.0, 0.0, d.vx, d.vy);
-    rot_ += 0.5 * inertia(i) * d.w * d.w;
-    px_ += d.m * d.vx;
-    py_ += d.m * d.vy;
-    mtot_ += d.m;
+    const double m = body[i].m;
+    kin_ += 0.5 * m * (d.vx * d.vx + d.vy * d.vy);
+    add_kinetic_tensor(m, 0.0, 0.0, d.vx, d.vy);
+    rot_ += 0.5 * inertia(i) * body[i].w * body[i].w;
+    px_ += m * d.vx;
+    py_ += m * d.vy;
+    mtot_ += m;
   }
 }
 
@@ -89,10 +108,10 @@ void SystemState::reset_slots(std::vector<SlotState> states) {
 
 void SystemState::add_books(int i, double sign) {
   const Disk& d = disk[i];
-  const double m = d.m;
+  const double m = body[i].m;
   kin_ += sign * 0.5 * m * (d.vx * d.vx + d.vy * d.vy);
   add_kinetic_tensor(sign * m, 0.0, 0.0, d.vx, d.vy);
-  rot_ += sign * 0.5 * inertia(i) * d.w * d.w;
+  rot_ += sign * 0.5 * inertia(i) * body[i].w * body[i].w;
   px_ += sign * m * d.vx;
   py_ += sign * m * d.vy;
   mtot_ += sign * m;
@@ -102,6 +121,7 @@ void SystemState::grow() {
   const int n = size();
   const int n1 = n + std::max(64, n / 4);
   disk.resize(n1, Disk{});
+  body.resize(n1, DiskBody{});
   counter.resize(n1, 0u);
   slot.resize(n1, SlotState::absent);
   tag.resize(n1, 0);
@@ -128,7 +148,12 @@ int SystemState::add_disk(const DiskInit& in) {
   if (free_.empty()) grow();
   const int i = free_.back();
   free_.pop_back();
-  disk[i] = Disk{x, y, in.v.x(), in.v.y(), now_, in.radius, in.mass, in.omega};
+  // Placed at (x, y) now: at the epoch it would have been v (now − epoch) behind.
+  const double dt = now_ - epoch_;
+  disk[i] = Disk{x - in.v.x() * dt, y - in.v.y() * dt, in.v.x(), in.v.y()};
+  body[i] = DiskBody{in.radius, in.mass, in.omega};
+  if (uniform_r_ < 0.0) uniform_r_ = in.radius;              // the first disk
+  else if (in.radius != uniform_r_) uniform_r_ = 0.0;  // from now on the scans read radii
   tag[i] = next_tag_++;  // a newcomer, never the id of the slot's former disk
   if (static_cast<std::size_t>(i) < last_collision.size()) last_collision[i] = -kNever;  // a new disk
   ++counter[i];  // predictions that named this slot's former disk are stale
@@ -158,7 +183,6 @@ bool SystemState::take_out(int i) {
   if (slot[i] == SlotState::absent) return false;
   if (slot[i] == SlotState::frozen) --n_frozen_;
   else add_books(i, -1.0);
-  synchronise(i);
   const int c = grid.cell(i);
   grid.remove(i);
   slot[i] = SlotState::absent;
@@ -172,16 +196,13 @@ bool SystemState::take_out(int i) {
 
 void SystemState::freeze(int i, double vx, double vy) {
   if (slot[i] == SlotState::absent) return;
-  synchronise(i);
   if (slot[i] == SlotState::present) {
     add_books(i, -1.0);
     slot[i] = SlotState::frozen;
     ++n_frozen_;
   }
-  Disk& d = disk[i];
-  d.vx = vx;
-  d.vy = vy;
-  d.w = 0.0;  // a translating wall: no spin enters a rough collision
+  assign_velocity(i, vx, vy);
+  body[i].w = 0.0;  // a translating wall: no spin enters a rough collision
   ++counter[i];
   touched_.push_back(i);
 }
@@ -220,7 +241,7 @@ struct PackedEvent {
 };
 static_assert(sizeof(PackedEvent) == 32 && std::is_trivially_copyable_v<PackedEvent>);
 // Written as raw bytes, so they must have no padding (a new field: check, then update).
-static_assert(sizeof(Disk) == 8 * sizeof(double));
+static_assert(sizeof(Disk) == 4 * sizeof(double) && sizeof(DiskBody) == 3 * sizeof(double));
 static_assert(sizeof(Stats) == 21 * 8, "Stats is written as raw bytes: a new field must not add padding");
 static_assert(sizeof(SystemState::Removal) == 2 * sizeof(int));
 static_assert(sizeof(OverlapRemoval) == 5 * 8 && std::is_trivially_copyable_v<OverlapRemoval>);
@@ -256,7 +277,11 @@ void SystemState::save(io::ArchiveWriter& w) const {
   w.flag(grown_);
   w.flag(events_ready_);
   w.pod(stats);
+  w.pod(epoch_);
+  w.pod(uniform_r_);
+  w.pod(next_rebase_);
   w.array(disk);
+  w.array(body);
   w.array(counter);
   w.array(slot);
   std::vector<PackedEvent> ev(event.size());
@@ -309,8 +334,15 @@ SystemState::Saved SystemState::read_saved(io::ArchiveReader& r) const {
   s.grown = r.flag("the grown flag");
   s.events_ready = r.flag("the events-ready flag");
   r.pod(s.stats);
+  r.pod(s.epoch);
+  r.pod(s.uniform_r);
+  r.pod(s.next_rebase);
+  if (!(s.epoch <= s.now) || !(s.uniform_r >= 0.0 || s.uniform_r == -1.0))
+    r.corrupt(fmt::format("the disks' epoch {} is after the clock {}, or the uniform radius is {}", s.epoch, s.now,
+                          s.uniform_r));
   r.array(s.disk);
   const std::size_t n = s.disk.size();
+  r.array_of(s.body, n, "the disk bodies (radius, mass, spin)");
   if (n > static_cast<std::size_t>(INT32_MAX)) r.corrupt(fmt::format("{} disk slots", n));
   const int ni = static_cast<int>(n);
   r.array_of(s.counter, n, "the disk counters");
@@ -440,7 +472,11 @@ void SystemState::restore(Saved&& s) noexcept {
   grown_ = s.grown;
   events_ready_ = s.events_ready;
   stats = s.stats;
+  epoch_ = s.epoch;
+  uniform_r_ = s.uniform_r;
+  next_rebase_ = s.next_rebase;
   disk.swap(s.disk);
+  body.swap(s.body);
   counter.swap(s.counter);
   slot.swap(s.slot);
   event.swap(s.event);

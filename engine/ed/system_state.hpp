@@ -2,6 +2,7 @@
 // their own lazy clocks (seed 003 §2.3), per-disk next events with partner counters
 // (DynamO style), the cell map (§2.2), the collision rule (§3.4) and the energy books.
 #pragma once
+#include <algorithm>
 #include <cstddef>
 #include <array>
 #include <cstdint>
@@ -28,11 +29,22 @@ namespace grainflow::ed {
 // What a slot of the disk arrays holds (open stream boundaries, seed 003 §3.2–3.3).
 enum class SlotState : std::uint8_t { absent = 0, present = 1, frozen = 2 };
 
-// Hot per-disk data, one cache line: position and velocity valid at the disk's own time t,
-// radius, mass m and spin ω_z (rough disks). A collision reads both parties' lines and
-// nothing else per disk; a neighbourhood scan reads one line per candidate.
-struct alignas(64) Disk {
-  double x = 0.0, y = 0.0, vx = 0.0, vy = 0.0, t = 0.0, r = 0.0, m = 0.0, w = 0.0;
+// What a neighbourhood scan reads of each candidate, 32 bytes (two disks per cache line):
+// the velocity, and the position the disk would have had at the common epoch
+// (SystemState::epoch) had it moved at this velocity since. The disk's position now is
+// x + vx (now − epoch): one clock for every disk instead of the seed's per-disk lazy clocks
+// (§2.3), which would cost a time stamp per disk in the hot record. Only the parties of an
+// event change their record, as with lazy clocks; the epoch is moved to now every so
+// often (SystemState::rebase) so that (now − epoch) stays a few collision times and the
+// positions keep the precision of the box's coordinates.
+struct alignas(32) Disk {
+  double x = 0.0, y = 0.0, vx = 0.0, vy = 0.0;
+};
+
+// What only the parties of an event read: radius, mass and spin ω_z (rough disks). A scan
+// needs the candidates' radii only when the disks differ in size (SystemState::uniform_radius).
+struct DiskBody {
+  double r = 0.0, m = 0.0, w = 0.0;
 };
 
 // One disk removed by the TC model's overlap handling (SystemState::remove_overlapping):
@@ -59,6 +71,11 @@ struct TimeCutoff {
 // round-off of a contact (≈ 10^-14 σ).
 inline constexpr double kOverlapGap = 2e-9;
 
+// A disk as an agent sees it at the current time (a copy: SystemState::disk_now).
+struct DiskNow {
+  double x = 0.0, y = 0.0, vx = 0.0, vy = 0.0, r = 0.0, m = 0.0, w = 0.0;
+};
+
 // What a disk's scheduled non-crossing event is.
 enum class EventKind : std::uint8_t { None = 0, Pair = 1, Agent = 2 };
 
@@ -82,6 +99,7 @@ class SystemState {
 public:
   // ---- disks -------------------------------------------------------------------------
   HugeVector<Disk> disk;
+  HugeVector<DiskBody> body;
   // Bumped whenever the disk's velocity changes (or it comes/goes), so that events naming
   // it turn stale. Kept apart from the event records: at 4 bytes a disk the array stays
   // in cache, where a record would cost a memory access per neighbour predicted.
@@ -129,6 +147,9 @@ public:
   void clear_rescheduled() { rescheduled_.clear(); }
   // Diameters a disk added later may have: the cell map was sized for [min, max].
   void set_diameter_range(double dmin, double dmax) { dmin_ = dmin; dmax_ = dmax; }
+  // Called by the builder after filling disk/body for size() disks: the epoch is now and
+  // the radii are looked at.
+  void reset_disks();
   // Fills the slot bookkeeping for size() disks (called by the builder): all present, or
   // the given states (one per slot, none absent).
   void reset_slots(std::vector<SlotState> states = {});
@@ -179,21 +200,43 @@ public:
   double now() const { return now_; }
   double area() const { return grid.lx() * grid.ly(); }
 
-  // Brings disk i to the current time (seed 003 §2.3: only event parties are moved).
-  void synchronise(int i) {
-    Disk& d = disk[i];
-    const double dt = now_ - d.t;
-    d.x += d.vx * dt;
-    d.y += d.vy * dt;
-    d.t = now_;
-  }
-  // Position of disk i at the current time without touching its state.
+  // ---- the common epoch of the disk records (Disk) -----------------------------------
+  double epoch() const { return epoch_; }
+  // Time since the epoch: a disk is at x + vx · since_epoch() now.
+  double since_epoch() const { return now_ - epoch_; }
+  // Position of disk i at the current time.
   Vec2 position_now(int i) const {
     const Disk& d = disk[i];
-    const double dt = now_ - d.t;
+    const double dt = now_ - epoch_;
     return {d.x + d.vx * dt, d.y + d.vy * dt};
   }
-  double inertia(int i) const { return rule.q * disk[i].m * disk[i].r * disk[i].r; }
+  // Disk i now: position, velocity, radius, mass, spin.
+  DiskNow disk_now(int i) const {
+    const Disk& d = disk[i];
+    const DiskBody& b = body[i];
+    const double dt = now_ - epoch_;
+    return {d.x + d.vx * dt, d.y + d.vy * dt, d.vx, d.vy, b.r, b.m, b.w};
+  }
+  // Gives disk i a new velocity from now on, its path continuous at now: the epoch position
+  // moves by (v_old − v_new)(now − epoch). Books, counter and re-prediction are the caller's
+  // (set_velocity does all of it).
+  void assign_velocity(int i, double vx, double vy) {
+    Disk& d = disk[i];
+    const double dt = now_ - epoch_;
+    d.x += (d.vx - vx) * dt;
+    d.y += (d.vy - vy) * dt;
+    d.vx = vx;
+    d.vy = vy;
+  }
+  // Moves the epoch to now: every record then holds its disk's current position. Changes
+  // no event; the loop calls it every rebase_period() events, and Simulation::synchronise
+  // (before drawing or reading positions).
+  void rebase();
+  std::uint64_t rebase_period() const { return std::max<std::uint64_t>(4096, 2 * disk.size()); }
+  // The radius every disk has had so far: 0 when they differ (then a scan reads each
+  // candidate's radius from body), −1 before the first disk.
+  double uniform_radius() const { return uniform_r_; }
+  double inertia(int i) const { return rule.q * body[i].m * body[i].r * body[i].r; }
 
   // The way agents change a disk's velocity: keeps energy/momentum books and counters
   // right and asks the loop to re-predict the disk. Synchronises the disk first.
@@ -234,6 +277,14 @@ public:
     rot_ += drot;
     px_ += dpx;
     py_ += dpy;
+  }
+
+  // Rebases when the loop has processed rebase_period() events since the last time.
+  void maybe_rebase() {
+    if (stats.events >= next_rebase_) [[unlikely]] {
+      rebase();
+      next_rebase_ = stats.events + rebase_period();
+    }
   }
 
   // Moves the clock forward, integrating kT over the interval (measurement window).
@@ -278,7 +329,8 @@ public:
 
   // ---- checkpoints (Simulation::save_state / load_state) ------------------------------
   // Every mutable member, verbatim: clock, books, slot counts, diameter range, the disks
-  // (each at its own time: nothing is synchronised), counters, slot states, the event
+  // (at the common epoch, saved with them: nothing is rebased), the bodies, the next
+  // rebase, counters, slot states, the event
   // records, the free-slot list (its order decides which ids are reused), the changes
   // made from outside and not yet settled by the loop (set_velocity, add_disk, … between
   // runs: kept, and settled when the next run starts, as without the checkpoint), the
@@ -292,7 +344,10 @@ public:
     double kxx = 0.0, kxy = 0.0, kyy = 0.0;
     int n_present = 0, n_frozen = 0;
     bool grown = false, events_ready = false;
+    double epoch = 0.0, uniform_r = 0.0;
+    std::uint64_t next_rebase = 0;
     HugeVector<Disk> disk;
+    HugeVector<DiskBody> body;
     std::vector<std::uint32_t> counter;
     std::vector<SlotState> slot;
     HugeVector<NextEvent> event;
@@ -323,11 +378,14 @@ private:
   void add_books(int i, double sign);
 
   double now_ = 0.0;
+  double epoch_ = 0.0;      // the disk records' common epoch (Disk)
+  double uniform_r_ = -1.0;  // uniform_radius()
   double kin_ = 0.0, rot_ = 0.0, px_ = 0.0, py_ = 0.0, mtot_ = 0.0;
   double kxx_ = 0.0, kxy_ = 0.0, kyy_ = 0.0;  // kinetic_tensor()
   int n_present_ = 0, n_frozen_ = 0;
   double dmin_ = 0.0, dmax_ = kNever;
   std::int64_t next_tag_ = 1;  // the id the next disk added gets
+  std::uint64_t next_rebase_ = 0;  // stats.events at which maybe_rebase rebases
   std::vector<int> touched_, free_, added_;
   std::vector<int> rescheduled_;  // timers to ask again (reschedule)
   std::vector<Removal> removed_;

@@ -120,7 +120,7 @@ void Thermostat::sample(SystemState& s) {
     int ix = 0, iy = 0;
     if (!g.bin_of(wrapped_position(s, i), ix, iy)) continue;
     const std::size_t b = g.index(ix, iy);
-    const Disk& d = s.disk[i];
+    const DiskNow d = s.disk_now(i);
     frame_mass_[b] += d.m;
     frame_mom_[2 * b] += d.m * d.vx;
     frame_mom_[2 * b + 1] += d.m * d.vy;
@@ -158,7 +158,7 @@ void Thermostat::kick(SystemState& s) {
   ThermostatEvent ev;
   ev.t = s.now();
   ev.i = i;
-  ev.mi = s.disk[i].m;
+  ev.mi = s.body[i].m;
   ev.vi_before = Vec2(s.disk[i].vx, s.disk[i].vy);
   const double kT = cfg_.kT;
   if (cfg_.kind == ThermostatKind::dual) {
@@ -168,7 +168,7 @@ void Thermostat::kick(SystemState& s) {
       return;
     }
     ev.j = j;
-    ev.mj = s.disk[j].m;
+    ev.mj = s.body[j].m;
     ev.vj_before = Vec2(s.disk[j].vx, s.disk[j].vy);
     const double mi = ev.mi, mj = ev.mj, M = mi + mj, mu = mi * mj / M;
     const Vec2 c = (mi * ev.vi_before + mj * ev.vj_before) / M;

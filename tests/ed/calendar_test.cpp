@@ -24,6 +24,7 @@ struct RefEvent {
 };
 RefEvent brute_force_next(const ed::Simulation& sim) {
   const auto& d = sim.disks();
+  const auto& rb = sim.bodies();
   const auto& c = sim.config();
   RefEvent best{ed::kNever, -1, -1};
   const int n = sim.size();
@@ -33,12 +34,12 @@ RefEvent brute_force_next(const ed::Simulation& sim) {
         for (int ky = -1; ky <= 1; ++ky) {
           if ((kx && !c.periodic_x) || (ky && !c.periodic_y)) continue;
           const double t = ed::pair_collision_time(d[i].x - d[j].x - kx * c.lx, d[i].y - d[j].y - ky * c.ly,
-                                                   d[i].vx - d[j].vx, d[i].vy - d[j].vy, d[i].r + d[j].r);
+                                                   d[i].vx - d[j].vx, d[i].vy - d[j].vy, rb[i].r + rb[j].r);
           if (t < best.dt) best = {t, i, j};
         }
     auto wall = [&](double p, double v, double l) {
-      if (v > 0) return (l - d[i].r - p) / v;
-      if (v < 0) return (d[i].r - p) / v;
+      if (v > 0) return (l - rb[i].r - p) / v;
+      if (v < 0) return (rb[i].r - p) / v;
       return ed::kNever;
     };
     if (!c.periodic_x && wall(d[i].x, d[i].vx, c.lx) < best.dt) best = {wall(d[i].x, d[i].vx, c.lx), i, -1};

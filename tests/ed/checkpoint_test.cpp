@@ -132,8 +132,10 @@ void expect_same_run(const ed::Simulation& a, const ed::Simulation& b, bool with
     if (a.state().slot[i] != b.state().slot[i]) ++slots_differ, differ = true;
     if (a.state().counter[i] != b.state().counter[i]) ++counters_differ, differ = true;
     if (a.present(i) && a.tag(i) != b.tag(i)) ++tags_differ, differ = true;
-    // x, y, vx, vy, t, r, m, w of the disks present (Disk has no padding).
-    if (a.present(i) && std::memcmp(&a.disks()[i], &b.disks()[i], sizeof(ed::Disk)) != 0) ++disks_differ, differ = true;
+    // x, y, vx, vy (at the epoch) and r, m, w of the disks present (no padding in either).
+    if (a.present(i) && (std::memcmp(&a.disks()[i], &b.disks()[i], sizeof(ed::Disk)) != 0 ||
+                         std::memcmp(&a.bodies()[i], &b.bodies()[i], sizeof(ed::DiskBody)) != 0))
+      ++disks_differ, differ = true;
     if (differ && first < 0) first = i;
   }
   EXPECT_EQ(slots_differ, 0) << "first slot that differs: " << first;

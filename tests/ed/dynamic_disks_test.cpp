@@ -55,6 +55,7 @@ struct RefEvent {
 // Next collision among the disks present (periodic in both axes, 9 images).
 RefEvent brute_force_next(const ed::Simulation& sim) {
   const auto& d = sim.disks();
+  const auto& rb = sim.bodies();
   const auto& c = sim.config();
   RefEvent best{ed::kNever, -1, -1};
   for (int i = 0; i < sim.size(); ++i) {
@@ -64,7 +65,7 @@ RefEvent brute_force_next(const ed::Simulation& sim) {
       for (int kx = -1; kx <= 1; ++kx)
         for (int ky = -1; ky <= 1; ++ky) {
           const double t = ed::pair_collision_time(d[i].x - d[j].x - kx * c.lx, d[i].y - d[j].y - ky * c.ly,
-                                                   d[i].vx - d[j].vx, d[i].vy - d[j].vy, d[i].r + d[j].r);
+                                                   d[i].vx - d[j].vx, d[i].vy - d[j].vy, rb[i].r + rb[j].r);
           if (t < best.dt) best = {t, i, j};
         }
     }

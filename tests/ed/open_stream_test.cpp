@@ -38,7 +38,7 @@ public:
   std::string_view name() const override { return "test_plane"; }
   void cells(const ed::CellGrid& grid, std::vector<int>& out) const override { ed::plane_cells(grid, xm_, out); }
   double event_time(const ed::SystemState& s, int i) const override {
-    const ed::Disk& d = s.disk[i];
+    const ed::DiskNow d = s.disk_now(i);
     const double dx = xm_ - d.x;
     if (std::abs(dx) < 1e-9 || dx * d.vx <= 0.0) return ed::kNever;
     return dx / d.vx;

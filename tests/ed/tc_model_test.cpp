@@ -152,8 +152,9 @@ TEST(TcModel, EveryCollisionOfADenseBoxFollowsTheRule) {
   double worst_elastic = 0.0, worst_inelastic = 0.0, worst_vn = 0.0;
   sim.set_collision_observer([&](const ed::CollisionRecord& r) {
     const ed::Disk &a = sim.disks()[r.i], &b = sim.disks()[r.j];
-    EXPECT_EQ(a.t, r.t);  // both parties synchronised: positions at contact
-    double rx = a.x - b.x, ry = a.y - b.y;
+    EXPECT_EQ(sim.time(), r.t);  // reported at the collision: positions now are at contact
+    const grainflow::Vec2 pa = sim.state().position_now(r.i), pb = sim.state().position_now(r.j);
+    double rx = pa.x() - pb.x(), ry = pa.y() - pb.y();
     rx -= L * std::round(rx / L);
     ry -= L * std::round(ry / L);
     const double d = std::hypot(rx, ry), nx = rx / d, ny = ry / d;

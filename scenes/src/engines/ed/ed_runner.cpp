@@ -199,7 +199,7 @@ public:
       p[0] = float(d.x);
       p[1] = float(d.y);
       p[2] = 0.0f;
-      p[3] = float(d.r);
+      p[3] = float(sim_.bodies()[i].r);
       if (attribute.value) s.attribute[out] = float(attribute.value(sim_, i, d));
     }
     s.obstacles.clear();
@@ -243,10 +243,11 @@ public:
       f.id.push_back(sim_.tag(i));
       f.type.push_back(1);
       f.position.emplace_back(d.x, d.y, 0.0);
-      f.radius.push_back(d.r);
+      const ed::DiskBody& b = sim_.bodies()[i];
+      f.radius.push_back(b.r);
       f.velocity.emplace_back(d.vx, d.vy, 0.0);
-      omega.push_back(d.w);
-      mass.push_back(d.m);
+      omega.push_back(b.w);
+      mass.push_back(b.m);
     }
     // The spin is ω_z: the vector (0, 0, ω), as OVITO's Angular Velocity and LAMMPS's
     // omegax omegay omegaz of a 2D run.
@@ -358,16 +359,18 @@ public:
   }
 
   std::string state_digest() const override {
-    // Each present disk as stored (position and velocity at its own clock, spin), in slot
-    // order, with the clock: equal for runs that made the same events in the same order.
+    // Each present disk as stored (position at the common epoch, velocity, spin), in slot
+    // order, with the clock and the epoch: equal for runs that made the same events in the
+    // same order.
     core::StateDigest dg;
     dg.add(sim_.time());
+    dg.add(sim_.state().epoch());
     const auto& disks = sim_.disks();
     for (int i = 0; i < sim_.size(); ++i) {
       if (!sim_.present(i)) continue;
       const ed::Disk& d = disks[i];
       dg.add(std::uint64_t(i));
-      for (double v : {d.x, d.y, d.vx, d.vy, d.t, sim_.omega(i)}) dg.add(v);
+      for (double v : {d.x, d.y, d.vx, d.vy, sim_.omega(i)}) dg.add(v);
     }
     return dg.hex();
   }

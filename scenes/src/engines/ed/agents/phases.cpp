@@ -130,7 +130,7 @@ struct Phase {
 
 // sin(kπ y'/L') of disk i at the current time, for k = 1, 2 (phase_wave_vy's profile).
 std::array<double, 2> wave_profile(const ed::SystemState& s, int i, double ly) {
-  const double r = s.disk[i].r;
+  const double r = s.body[i].r;
   const double u = std::numbers::pi * (s.position_now(i).y() - r) / (ly - 2.0 * r);
   return {std::sin(u), std::sin(2.0 * u)};
 }
