@@ -18,7 +18,9 @@
 namespace grainflow::io {
 
 // 2: the DEM state carries the contact virial of its forces (the pressure tensor).
-inline constexpr std::uint32_t kCheckpointVersion = 2;
+// 3: the ED disks are stored at a common epoch, with their bodies (radius, mass, spin)
+//    apart.
+inline constexpr std::uint32_t kCheckpointVersion = 3;
 
 struct CheckpointInfo {
   std::string engine;                  // "ed", "dem"
