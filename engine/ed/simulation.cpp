@@ -357,11 +357,22 @@ double Simulation::min_gap() const {
   return gap;
 }
 
+std::vector<Simulation::MemoryPart> Simulation::memory_parts() const {
+  return {{"disk records", s_.disk.capacity() * sizeof(Disk), true},
+          {"bodies", s_.body.capacity() * sizeof(DiskBody), true},
+          {"event records", s_.event.capacity() * sizeof(NextEvent), true},
+          {"counters", s_.counter.capacity() * sizeof(std::uint32_t), true},
+          {"slot states", s_.slot.capacity() * sizeof(SlotState), true},
+          {"cell map", s_.grid.memory_bytes(), true},
+          {"calendar", loop_->calendar_bytes(), true},
+          {"ids", s_.tag.capacity() * sizeof(std::int64_t), false},
+          {"TC times", s_.last_collision.capacity() * sizeof(double), false}};
+}
+
 std::size_t Simulation::memory_bytes() const {
-  const std::size_t n = s_.disk.capacity();
-  const std::size_t per = sizeof(Disk) + 4 /*counter*/ +
-                          sizeof(NextEvent) + 1 /*slot*/ + sizeof(std::int64_t) /*tag*/;
-  return n * per + s_.last_collision.capacity() * sizeof(double) + s_.grid.memory_bytes() + loop_->calendar_bytes();
+  std::size_t b = 0;
+  for (const MemoryPart& p : memory_parts()) b += p.bytes;
+  return b;
 }
 
 }  // namespace grainflow::ed

@@ -165,6 +165,15 @@ public:
 
   const char* calendar() const { return loop_->calendar_name(); }
   std::size_t memory_bytes() const;  // engine state incl. calendar, excluding agents
+  // memory_bytes() array by array, each with whether the event loop touches it (hot: the
+  // disk records a scan reads, the parties' bodies, event records, counters, slot states,
+  // the cell map and the calendar) or not (cold: persistent ids, TC times).
+  struct MemoryPart {
+    const char* name;
+    std::size_t bytes;
+    bool hot;
+  };
+  std::vector<MemoryPart> memory_parts() const;
 
   // ---- checkpoints --------------------------------------------------------------------
   // Writes the complete mutable state — SystemState (disks at their own times, counters,

@@ -3,6 +3,8 @@
 // an equilibration period; reports the median of the timed windows and memory per disk.
 // Usage: bench_ed [N ...] [--repeats R] [--per-disk C] [--calendar cell_heap|bucket] [--cell S]
 //                 [--order lattice|shuffled|cells] [--checkpoint]
+// Memory: "hot B/disk" is what the event loop touches (Simulation::memory_parts), "B/disk"
+// everything; each size's breakdown by array follows its row.
 // --order: the disks' memory order for the timed windows — as the melted lattice left
 // it (default), shuffled at random (what an open stream's refilled slots tend to), or
 // renumbered in cell order (Simulation::reorder_disks(cell_order())).
@@ -117,8 +119,8 @@ int main(int argc, char** argv) try {
   if (sizes.empty()) sizes = {10000, 160000, 1000000};
   // Wall-clock rates suffer when the machine is shared; collisions per CPU-second of this
   // process (std::clock) is the one-core figure, reported beside it.
-  std::printf("%-9s %-10s %14s %14s %14s %11s %9s %9s\n", "N", "calendar", "coll/s wall", "coll/s cpu",
-              "events/s cpu", "stale/coll", "B/disk", "setup s");
+  std::printf("%-9s %-10s %14s %14s %14s %11s %9s %9s %9s\n", "N", "calendar", "coll/s wall", "coll/s cpu",
+              "events/s cpu", "stale/coll", "hot B/disk", "B/disk", "setup s");
   for (int n : sizes) {
     for (auto cal : cals) {
       const auto t0 = std::chrono::steady_clock::now();
@@ -149,8 +151,18 @@ int main(int argc, char** argv) try {
         erates.push_back((sim.stats().events - e0) / cpu);
         stale.push_back(double(sim.stats().stale - s0) / double(sim.stats().collisions - c0));
       }
-      std::printf("%-9d %-10s %14.4g %14.4g %14.4g %11.3f %9.1f %9.1f\n", n, sim.calendar(), median(rates),
-                  median(crates), median(erates), median(stale), double(sim.memory_bytes()) / n, setup);
+      double hot = 0.0;
+      std::string parts;
+      for (const auto& p : sim.memory_parts()) {
+        if (p.hot) hot += double(p.bytes);
+        char b[96];
+        std::snprintf(b, sizeof b, "%s%s %.1f%s", parts.empty() ? "" : ", ", p.name, double(p.bytes) / n,
+                      p.hot ? "" : " (cold)");
+        parts += b;
+      }
+      std::printf("%-9d %-10s %14.4g %14.4g %14.4g %11.3f %10.1f %9.1f %9.1f\n", n, sim.calendar(), median(rates),
+                  median(crates), median(erates), median(stale), hot / n, double(sim.memory_bytes()) / n, setup);
+      std::printf("#   B/disk: %s\n", parts.c_str());
       std::fflush(stdout);
     }
   }
