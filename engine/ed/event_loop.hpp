@@ -188,31 +188,35 @@ private:
   void collide(int i, int j) {
     const Disk& a = s_.disk[i];
     const Disk& b = s_.disk[j];
-    DiskBody& ba = s_.body[i];
-    DiskBody& bb = s_.body[j];
     double sx, sy;
     s_.grid.image_shift(s_.grid.cell(i), s_.grid.cell(j), sx, sy);
     // The separation now, from the epoch records: (x_a − x_b) + (v_a − v_b)(now − epoch).
     const double dt = s_.since_epoch();
     const double rx = (a.x + a.vx * dt) - (b.x + b.vx * dt + sx), ry = (a.y + a.vy * dt) - (b.y + b.vy * dt + sy);
-    const double m1 = ba.m, m2 = bb.m;
+    // Smooth disks of one radius and one mass (the usual case) need nothing from the
+    // bodies: no spin changes, and radius and mass are the common ones.
+    const double um = s_.uniform_mass();
+    const bool plain = s_.rule.smooth() && um > 0.0 && s_.uniform_radius() > 0.0;
+    const double m1 = plain ? um : s_.body[i].m, m2 = plain ? um : s_.body[j].m;
+    const double r1 = s_.radius(i), r2 = s_.radius(j);
+    const double w1 = plain ? 0.0 : s_.body[i].w, w2 = plain ? 0.0 : s_.body[j].w;
     // TC model (inelastic runs with a cutoff only; elastic ones never enter).
     const CollisionParams* rule = &s_.rule;
     if (s_.tc_on()) [[unlikely]] {
-      const TcVerdict v = tc_verdict(i, j, rx * rx + ry * ry, ba.r + bb.r, false);
+      const TcVerdict v = tc_verdict(i, j, rx * rx + ry * ry, r1 + r2, false);
       if (v == TcVerdict::removed) return;
       if (v == TcVerdict::elastic) rule = &tc_elastic_rule();
     }
-    const CollisionImpulse J = collision_impulse(rx, ry, a.vx - b.vx, a.vy - b.vy, ba.r, bb.r,
-                                                 ba.w, bb.w, m1, m2, *rule);
+    const CollisionImpulse J = collision_impulse(rx, ry, a.vx - b.vx, a.vy - b.vy, r1, r2, w1, w2, m1, m2, *rule);
     const double avx = a.vx, avy = a.vy, bvx = b.vx, bvy = b.vy;  // before, for the books
     const double k0 = 0.5 * (m1 * (avx * avx + avy * avy) + m2 * (bvx * bvx + bvy * bvy));
     s_.assign_velocity(i, avx + J.jx / m1, avy + J.jy / m1);
     s_.assign_velocity(j, bvx - J.jx / m2, bvy - J.jy / m2);
     const double k1 = 0.5 * (m1 * (a.vx * a.vx + a.vy * a.vy) + m2 * (b.vx * b.vx + b.vy * b.vy));
     double drot = 0.0;
-    if (J.dw1 != 0.0 || J.dw2 != 0.0) {
-      const double w1 = ba.w, w2 = bb.w;
+    if (J.dw1 != 0.0 || J.dw2 != 0.0) {  // rough disks only: plain is false
+      DiskBody& ba = s_.body[i];
+      DiskBody& bb = s_.body[j];
       ba.w += J.dw1;
       bb.w += J.dw2;
       drot = 0.5 * (s_.inertia(i) * (ba.w * ba.w - w1 * w1) +
@@ -293,7 +297,7 @@ private:
             }
           }
       }
-      scan_cells(i, di, s_.body[i].r, cells, shx, shy, nc, best, who, kind);
+      scan_cells(i, di, s_.radius(i), cells, shx, shy, nc, best, who, kind);
       scan_agents(i, to, best, who, kind);
       if (best < held) store_pair(i, best, who, kind);  // else keep the held event bit-exact
       schedule(i);
@@ -671,7 +675,7 @@ private:
         }
       }
     }
-    scan_cells(i, di, s_.body[i].r, cells, shx, shy, nc, best, who, kind);
+    scan_cells(i, di, s_.radius(i), cells, shx, shy, nc, best, who, kind);
     scan_agents(i, c, best, who, kind);
     store_pair(i, best, who, kind);
     schedule(i);

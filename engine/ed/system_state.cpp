@@ -45,17 +45,19 @@ void SystemState::rebase() {
   epoch_ = now_;
 }
 
+void SystemState::note_body(const DiskBody& b) {
+  // The first disk sets the value; one that differs turns it to 0 for good (mixed).
+  if (uniform_r_ < 0.0) uniform_r_ = b.r;
+  else if (b.r != uniform_r_) uniform_r_ = 0.0;
+  if (uniform_m_ < 0.0) uniform_m_ = b.m;
+  else if (b.m != uniform_m_) uniform_m_ = 0.0;
+}
+
 void SystemState::reset_disks() {
   epoch_ = now_;
   next_rebase_ = stats.events + rebase_period();
-  uniform_r_ = -1.0;  // no disk yet
-  for (int i = 0; i < size(); ++i) {
-    if (i == 0) uniform_r_ = body[i].r;
-    else if (body[i].r != uniform_r_) {
-      uniform_r_ = 0.0;
-      break;
-    }
-  }
+  uniform_r_ = uniform_m_ = -1.0;  // no disk yet
+  for (int i = 0; i < size(); ++i) note_body(body[i]);
 }
 
 void SystemState::recompute_books() {
@@ -152,8 +154,7 @@ int SystemState::add_disk(const DiskInit& in) {
   const double dt = now_ - epoch_;
   disk[i] = Disk{x - in.v.x() * dt, y - in.v.y() * dt, in.v.x(), in.v.y()};
   body[i] = DiskBody{in.radius, in.mass, in.omega};
-  if (uniform_r_ < 0.0) uniform_r_ = in.radius;              // the first disk
-  else if (in.radius != uniform_r_) uniform_r_ = 0.0;  // from now on the scans read radii
+  note_body(body[i]);
   tag[i] = next_tag_++;  // a newcomer, never the id of the slot's former disk
   if (static_cast<std::size_t>(i) < last_collision.size()) last_collision[i] = -kNever;  // a new disk
   ++counter[i];  // predictions that named this slot's former disk are stale
@@ -279,6 +280,7 @@ void SystemState::save(io::ArchiveWriter& w) const {
   w.pod(stats);
   w.pod(epoch_);
   w.pod(uniform_r_);
+  w.pod(uniform_m_);
   w.pod(next_rebase_);
   w.array(disk);
   w.array(body);
@@ -336,10 +338,12 @@ SystemState::Saved SystemState::read_saved(io::ArchiveReader& r) const {
   r.pod(s.stats);
   r.pod(s.epoch);
   r.pod(s.uniform_r);
+  r.pod(s.uniform_m);
   r.pod(s.next_rebase);
-  if (!(s.epoch <= s.now) || !(s.uniform_r >= 0.0 || s.uniform_r == -1.0))
-    r.corrupt(fmt::format("the disks' epoch {} is after the clock {}, or the uniform radius is {}", s.epoch, s.now,
-                          s.uniform_r));
+  if (!(s.epoch <= s.now) || !(s.uniform_r >= 0.0 || s.uniform_r == -1.0) ||
+      !(s.uniform_m >= 0.0 || s.uniform_m == -1.0))
+    r.corrupt(fmt::format("the disks' epoch {} is after the clock {}, or the uniform radius and mass are {} and {}",
+                          s.epoch, s.now, s.uniform_r, s.uniform_m));
   r.array(s.disk);
   const std::size_t n = s.disk.size();
   r.array_of(s.body, n, "the disk bodies (radius, mass, spin)");
@@ -474,6 +478,7 @@ void SystemState::restore(Saved&& s) noexcept {
   stats = s.stats;
   epoch_ = s.epoch;
   uniform_r_ = s.uniform_r;
+  uniform_m_ = s.uniform_m;
   next_rebase_ = s.next_rebase;
   disk.swap(s.disk);
   body.swap(s.body);

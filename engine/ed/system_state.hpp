@@ -236,6 +236,11 @@ public:
   // The radius every disk has had so far: 0 when they differ (then a scan reads each
   // candidate's radius from body), −1 before the first disk.
   double uniform_radius() const { return uniform_r_; }
+  // The same for the mass: with one radius, one mass and smooth disks a collision needs
+  // nothing from the bodies (EventLoop::collide), which saves a cache line per party.
+  double uniform_mass() const { return uniform_m_; }
+  // Disk i's radius, without reading its body when all disks have one.
+  double radius(int i) const { return uniform_r_ > 0.0 ? uniform_r_ : body[i].r; }
   double inertia(int i) const { return rule.q * body[i].m * body[i].r * body[i].r; }
 
   // The way agents change a disk's velocity: keeps energy/momentum books and counters
@@ -344,7 +349,7 @@ public:
     double kxx = 0.0, kxy = 0.0, kyy = 0.0;
     int n_present = 0, n_frozen = 0;
     bool grown = false, events_ready = false;
-    double epoch = 0.0, uniform_r = 0.0;
+    double epoch = 0.0, uniform_r = 0.0, uniform_m = 0.0;
     std::uint64_t next_rebase = 0;
     HugeVector<Disk> disk;
     HugeVector<DiskBody> body;
@@ -376,10 +381,12 @@ private:
   bool take_out(int i);  // remove_disk without the counting; false when the slot was empty
   void grow();
   void add_books(int i, double sign);
+  void note_body(const DiskBody& b);  // updates uniform_radius / uniform_mass
 
   double now_ = 0.0;
   double epoch_ = 0.0;      // the disk records' common epoch (Disk)
   double uniform_r_ = -1.0;  // uniform_radius()
+  double uniform_m_ = -1.0;  // uniform_mass()
   double kin_ = 0.0, rot_ = 0.0, px_ = 0.0, py_ = 0.0, mtot_ = 0.0;
   double kxx_ = 0.0, kxy_ = 0.0, kyy_ = 0.0;  // kinetic_tensor()
   int n_present_ = 0, n_frozen_ = 0;
