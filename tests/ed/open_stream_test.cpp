@@ -358,6 +358,8 @@ TEST(OpenStream, IdealGasLimitKeepsTheStreamExactly) {
   const double arrivals = static_cast<double>(r.turned + r.removed_out), p = f.turn_back_probability();
   EXPECT_NEAR(arrivals, in, 0.03 * in);
   EXPECT_NEAR(static_cast<double>(r.turned), p * arrivals, 4.0 * std::sqrt(arrivals * p * (1.0 - p)));
+  // A KS test of no sample passes (its critical value is ∞): the plane must see the stream.
+  EXPECT_GT(r.crossings.size(), 1000u);
   const double D = crossing_ks(r, ch.U, ch.kT), crit = ks_critical_001(r.crossings.size());
   std::printf("  mid-plane crossings vs Eq. 3.27 at the stream's U, kT: KS D = %.5f, critical (0.001) = %.5f\n", D, crit);
   EXPECT_LT(D, crit);
@@ -380,6 +382,7 @@ void check_seed_density_channel(const Channel& ch, const Result& r) {
   // Fig. 3.3: the crossing distribution has the form Eq. 3.27, here at the channel's own
   // U' and kT' (a few % off the stream's, see above; with estimated parameters the KS
   // critical value is conservative).
+  EXPECT_GT(r.crossings.size(), 1000u);  // a KS test of no sample passes
   const double D = crossing_ks(r, r.u_mean, r.kT_mean), crit = ks_critical_001(r.crossings.size());
   std::printf("  mid-plane crossings vs Eq. 3.27 at U' = %.5f, kT' = %.5f: KS D = %.5f, critical (0.001) = %.5f "
               "(at the stream's U, kT: D = %.5f)\n",
