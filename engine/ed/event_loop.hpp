@@ -188,11 +188,8 @@ private:
   void collide(int i, int j) {
     const Disk& a = s_.disk[i];
     const Disk& b = s_.disk[j];
-    double sx, sy;
-    s_.grid.image_shift(s_.grid.cell(i), s_.grid.cell(j), sx, sy);
-    // The separation now, from the epoch records: (x_a − x_b) + (v_a − v_b)(now − epoch).
-    const double dt = s_.since_epoch();
-    const double rx = (a.x + a.vx * dt) - (b.x + b.vx * dt + sx), ry = (a.y + a.vy * dt) - (b.y + b.vy * dt + sy);
+    double rx, ry;
+    separation_now(i, j, rx, ry);
     // Smooth disks of one radius and one mass (the usual case) need nothing from the
     // bodies: no spin changes, and radius and mass are the common ones.
     const double um = s_.uniform_mass();
@@ -406,10 +403,8 @@ private:
     const Disk& b = s_.disk[j];
     DiskBody& ba = s_.body[i];
     const DiskBody& bb = s_.body[j];
-    double sx, sy;
-    s_.grid.image_shift(s_.grid.cell(i), s_.grid.cell(j), sx, sy);
-    const double dt = s_.since_epoch();
-    const double rx = (a.x + a.vx * dt) - (b.x + b.vx * dt + sx), ry = (a.y + a.vy * dt) - (b.y + b.vy * dt + sy);
+    double rx, ry;
+    separation_now(i, j, rx, ry);
     if (!s_.frozen(i)) {
       const double m = ba.m;
       const CollisionParams* rule = &s_.rule;
@@ -718,6 +713,15 @@ private:
     const Disk& d = s_.disk[i];
     const double dt = s_.since_epoch();
     return Disk{d.x + d.vx * dt, d.y + d.vy * dt, d.vx, d.vy};
+  }
+  // r_i − r_j now, j seen from i's cell (minimum image by cell offsets): a collision's
+  // normal and virial arm.
+  void separation_now(int i, int j, double& rx, double& ry) const {
+    double sx, sy;
+    s_.grid.image_shift(s_.grid.cell(i), s_.grid.cell(j), sx, sy);
+    const Disk a = now_record(i), b = now_record(j);
+    rx = a.x - (b.x + sx);
+    ry = a.y - (b.y + sy);
   }
 
   struct Candidate {
