@@ -1,8 +1,17 @@
 // Event calendar with one scheduled event per entry in a bucket queue (Paul 2007, "A
 // complexity O(1) priority queue for event driven molecular dynamics simulations",
-// J. Comput. Phys. 221, 615): a window of time buckets of width dt, unsorted doubly linked
-// lists, an overflow list beyond the window, and a small binary heap as the sorted
-// near-future window (the bucket being processed). Same interface as CellHeapCalendar.
+// J. Comput. Phys. 221, 615) laid out in two tiers, as in a ladder queue (Tang, Goh &
+// Thng 2005, ACM TOMACS 15, 175): a window of fine time buckets of width dt, grouped F at a
+// time into coarse buckets; only the coarse bucket being processed is spread over its fine
+// buckets, later events are appended unsorted to their coarse bucket, and events beyond the
+// window to an overflow. A small binary heap orders the fine bucket being processed.
+// Buckets are chains of arrays of entry ids (chunks from one pool), not linked lists of
+// entries: at N ≳ 10^5 every list link an update touches is a cache miss (the old
+// neighbours and the old head), while an append writes the end of a chunk that is in
+// cache, and a bucket is read as a few contiguous arrays. Entries that move leave a stale copy behind
+// (lazy deletion): where_[e] names the one bucket whose copy counts. Same interface as
+// CellHeapCalendar, and the same order of events: the heap pops in the total order of
+// (key, entry), whatever the layout of the buckets.
 #pragma once
 #include <algorithm>
 #include <cmath>
@@ -20,32 +29,39 @@ class BucketCalendar {
 public:
   static constexpr const char* kName = "bucket";
 
-  // Tuning: expected events per bucket, and window span in mean event intervals of an entry.
-  explicit BucketCalendar(double events_per_bucket = 2.0, double span = 8.0)
-      : per_bucket_(events_per_bucket), span_(span) {}
+  // Tuning: expected events per fine bucket, window span in mean event intervals of an
+  // entry, and fine buckets per coarse bucket.
+  explicit BucketCalendar(double events_per_bucket = 2.0, double span = 8.0, int fine_per_coarse = 512)
+      : per_bucket_(events_per_bucket), span_(span), f_(fine_per_coarse) {}
 
   void reset(CalendarKeys key, const CellGrid* /*grid*/, int n_disks, int n_timers) {
     key_ = key;
     ne_ = n_disks + n_timers;
-    nb_ = std::max<std::int64_t>(64, static_cast<std::int64_t>(span_ * ne_ / per_bucket_));
-    head_.assign(nb_ + 1, -1);  // the last list is the overflow
-    link_.assign(ne_, Link{});
+    const std::int64_t want = std::max<std::int64_t>(64, static_cast<std::int64_t>(span_ * ne_ / per_bucket_));
+    nc_ = static_cast<std::int32_t>((want + f_ - 1) / f_);
+    nb_ = static_cast<std::int64_t>(nc_) * f_;
+    where_.assign(ne_, kParked);
     heap_.clear();
     heap_.reserve(64);
+    pool_.clear();
+    free_ = -1;
+    // Buckets 0..F−1 are the fine ones, F..F+nc−1 the coarse ones, F+nc the overflow.
+    bucket_.assign(static_cast<std::size_t>(overflow_id()) + 1, Bucket{});
     n_listed_ = 0;
     cur_ = 0;
     w0_ = 0;
+    kcur_ = 0;
     // Everything starts in the overflow; rebuild() tunes dt and distributes it.
     for (int e = 0; e < ne_; ++e)
-      if (std::isfinite(key_[e])) push_list(e, nb_);
+      if (std::isfinite(key_[e])) list_push(overflow_id(), e);
     rebuild();
   }
 
   void update(int e) {
     const double t = key_[e];
-    if (link_[e].where == kInHeap && std::isfinite(t) && bucket_of(t) <= cur_) {
+    if (where_[e] <= kHeap0 && std::isfinite(t) && bucket_of(t) <= cur_) {
       // Stays in the near-future window: re-sift in place.
-      const int p = link_[e].hpos;
+      const int p = heap_pos(e);
       if (p > 0 && less(e, heap_[(p - 1) / 2])) sift_up(p); else sift_down(p);
       return;
     }
@@ -61,63 +77,64 @@ public:
     while (heap_.empty()) {
       if (n_listed_ == 0) return -1;
       ++cur_;
-      if (cur_ - w0_ >= nb_) {
+      const std::int64_t rel = cur_ - w0_;
+      if (rel >= nb_) {
         rebuild();
-      } else {
-        const std::int64_t slot = cur_ - w0_;
-        for (int e = head_[slot]; e >= 0;) {
-          const int nx = link_[e].next;
-          --n_listed_;
-          heap_push(e);
-          e = nx;
-        }
-        head_[slot] = -1;
+        continue;
       }
+      const std::int32_t s = static_cast<std::int32_t>(rel % f_);
+      if (s == 0) {
+        kcur_ = static_cast<std::int32_t>(rel / f_);
+        spread(kcur_);
+      }
+      dump(s);
     }
     return heap_[0];
   }
 
   // Calls f(e) for the entries likely to come up after the current top (its heap children,
-  // or the head of the next bucket), so the loop can prefetch their data one event ahead.
+  // or the first entries of the next fine bucket), so the loop can prefetch their data one
+  // event ahead.
   template <class F>
   void peek_next(F&& f) const {
     const std::size_t h = heap_.size();
     if (h > 1) f(heap_[1]);
     if (h > 2) f(heap_[2]);
-    if (h <= 2 && cur_ + 1 - w0_ < nb_) {
-      const int e = head_[cur_ + 1 - w0_];
-      if (e >= 0) {
-        __builtin_prefetch(&link_[e]);
-        __builtin_prefetch(key_.at(e));
-        f(e);
-      }
-    }
+    if (h <= 2) peek_bucket(1, 2, f);
   }
 
-  // Calls f(e) for up to `max` entries of the bucket `k` places after the current one,
-  // walking its list (cache hints for the loop's software pipeline; prefetches the list
-  // links and keys on the way).
+  // Calls f(e) for up to `max` entries of the fine bucket `k` places after the current one
+  // (cache hints for the loop's software pipeline: stale copies included, and nothing for
+  // a bucket of the next coarse bucket, which is not spread yet).
   template <class F>
   void peek_bucket(int k, int max, F&& f) const {
-    const std::int64_t slot = cur_ + k - w0_;
-    if (slot >= nb_) return;
-    int e = head_[slot];
-    for (int q = 0; e >= 0 && q < max; ++q) {
-      __builtin_prefetch(&link_[e]);
-      __builtin_prefetch(key_.at(e));
-      f(e);
-      if (q + 1 < max) e = link_[e].next;
+    const std::int64_t rel = cur_ + k - w0_;
+    if (rel >= nb_ || rel / f_ != kcur_) return;
+    const std::int32_t c = bucket_[static_cast<std::size_t>(rel % f_)].head;
+    if (c < 0) return;
+    const Chunk& ch = pool_[static_cast<std::size_t>(c)];
+    const int n = std::min(max, ch.n);
+    for (int q = 0; q < n; ++q) {
+      __builtin_prefetch(key_.at(ch.ids[q]));
+      f(ch.ids[q]);
     }
   }
 
   double bucket_width() const { return dt_; }
   std::size_t memory_bytes() const {
-    return (head_.capacity() + heap_.capacity()) * 4 + link_.capacity() * sizeof(Link);
+    return (heap_.capacity() + scratch_.capacity() + where_.capacity()) * 4 + pool_.capacity() * sizeof(Chunk) +
+           bucket_.capacity() * sizeof(Bucket);
   }
 
 private:
-  static constexpr std::int32_t kParked = -1;  // infinite key: in no list
-  static constexpr std::int32_t kInHeap = -2;
+  // where_[e]: the bucket holding e's live copy — a fine bucket 0..F−1 (of the coarse
+  // bucket being processed), coarse bucket k as F + k, the overflow as F + nc — or kParked
+  // (infinite key: nowhere), or heap position p as kHeap0 − p.
+  static constexpr std::int32_t kParked = -1;
+  static constexpr std::int32_t kHeap0 = -2;
+  std::int32_t overflow_id() const { return f_ + nc_; }
+  int heap_pos(int e) const { return kHeap0 - where_[e]; }
+  void set_heap_pos(int e, int p) { where_[e] = kHeap0 - p; }
 
   // floor(t / dt) without the libm call std::floor compiles to on baseline x86-64, and with
   // a multiplication: any bucket map monotone in t gives the same event order (entries of
@@ -129,42 +146,97 @@ private:
   }
   bool less(int a, int b) const { return key_[a] < key_[b] || (key_[a] == key_[b] && a < b); }
 
-  void insert(int e) {
-    const double t = key_[e];
-    if (!std::isfinite(t)) { link_[e].where = kParked; return; }
-    const std::int64_t b = bucket_of(t);
-    if (b <= cur_) heap_push(e);
-    else if (b - w0_ < nb_) push_list(e, b - w0_);
-    else push_list(e, nb_);
-  }
-  void push_list(int e, std::int64_t list) {
-    const int h = head_[list];
-    link_[e].next = h;
-    link_[e].prev = -1;
-    if (h >= 0) link_[h].prev = e;
-    head_[list] = e;
-    link_[e].where = static_cast<std::int32_t>(list);
+  // Appends e to bucket `id` (a fine or coarse bucket, or the overflow).
+  void list_push(std::int32_t id, int e) {
+    Bucket& b = bucket_[static_cast<std::size_t>(id)];
+    if (b.tail < 0 || pool_[static_cast<std::size_t>(b.tail)].n == kChunkIds) {
+      const std::int32_t c = new_chunk();
+      if (b.tail < 0) b.head = c; else pool_[static_cast<std::size_t>(b.tail)].next = c;
+      b.tail = c;
+    }
+    Chunk& ch = pool_[static_cast<std::size_t>(b.tail)];
+    ch.ids[ch.n++] = e;
+    where_[e] = id;
     ++n_listed_;
   }
+  std::int32_t new_chunk() {
+    std::int32_t c = free_;
+    if (c >= 0) {
+      free_ = pool_[static_cast<std::size_t>(c)].next;
+    } else {
+      c = static_cast<std::int32_t>(pool_.size());
+      pool_.emplace_back();
+    }
+    Chunk& ch = pool_[static_cast<std::size_t>(c)];
+    ch.next = -1;
+    ch.n = 0;
+    return c;
+  }
+  // Calls f(e) for every id bucket `id` holds (stale copies included), then empties it
+  // and returns its chunks to the pool.
+  template <class F>
+  void drain(std::int32_t id, F&& f) {
+    Bucket& b = bucket_[static_cast<std::size_t>(id)];
+    std::int32_t c = b.head;
+    b = Bucket{};
+    while (c >= 0) {
+      // By index, not by reference: f may append to other buckets and so grow the pool.
+      const std::size_t ci = static_cast<std::size_t>(c);
+      const std::int32_t next = pool_[ci].next;
+      if (next >= 0) __builtin_prefetch(&pool_[static_cast<std::size_t>(next)]);
+      for (int q = 0, n = pool_[ci].n; q < n; ++q) f(pool_[ci].ids[q]);
+      pool_[ci].next = free_;
+      free_ = c;
+      c = next;
+    }
+  }
+  void insert(int e) {
+    const double t = key_[e];
+    if (!std::isfinite(t)) { where_[e] = kParked; return; }
+    const std::int64_t b = bucket_of(t);
+    if (b <= cur_) { heap_push(e); return; }
+    const std::int64_t rel = b - w0_;
+    if (rel >= nb_) { list_push(overflow_id(), e); return; }
+    const auto k = static_cast<std::int32_t>(rel / f_);
+    list_push(k == kcur_ ? static_cast<std::int32_t>(rel % f_) : f_ + k, e);
+  }
+  // Takes e out: from the heap at once, from a bucket lazily (its copy there turns stale).
   void detach(int e) {
-    const std::int32_t w = link_[e].where;
+    const std::int32_t w = where_[e];
     if (w == kParked) return;
-    if (w == kInHeap) {
-      const int p = link_[e].hpos;
+    if (w <= kHeap0) {
+      const int p = heap_pos(e);
       const int last = heap_.back();
       heap_.pop_back();
-      link_[e].hpos = -1;
       if (last != e) {
         heap_[p] = last;
-        link_[last].hpos = p;
+        set_heap_pos(last, p);
         if (p > 0 && less(last, heap_[(p - 1) / 2])) sift_up(p); else sift_down(p);
       }
     } else {
-      if (link_[e].prev >= 0) link_[link_[e].prev].next = link_[e].next; else head_[w] = link_[e].next;
-      if (link_[e].next >= 0) link_[link_[e].next].prev = link_[e].prev;
       --n_listed_;
     }
-    link_[e].where = kParked;
+    where_[e] = kParked;
+  }
+
+  // Coarse bucket k comes up: its live entries go to their fine buckets (or to the heap,
+  // those of the current fine bucket).
+  void spread(std::int32_t k) {
+    const std::int32_t id = f_ + k;
+    drain(id, [&](std::int32_t e) {
+      if (where_[e] != id) return;  // stale copy
+      --n_listed_;
+      where_[e] = kParked;
+      insert(e);
+    });
+  }
+  // Fine bucket s comes up: its live entries go to the heap.
+  void dump(std::int32_t s) {
+    drain(s, [&](std::int32_t e) {
+      if (where_[e] != s) return;  // stale copy (or a second copy, already taken)
+      --n_listed_;
+      heap_push(e);
+    });
   }
 
   // Called when the window is used up (so every scheduled entry sits in the overflow):
@@ -172,11 +244,13 @@ private:
   void rebuild() {
     scratch_.clear();
     double tmin = std::numeric_limits<double>::infinity();
-    for (int e = head_[nb_]; e >= 0; e = link_[e].next) {
+    const std::int32_t id = overflow_id();
+    drain(id, [&](std::int32_t e) {
+      if (where_[e] != id) return;
+      where_[e] = kParked;  // a second copy of e is now stale
       scratch_.push_back(e);
       tmin = std::min(tmin, key_[e]);
-    }
-    head_[nb_] = -1;
+    });
     n_listed_ -= static_cast<std::int64_t>(scratch_.size());
     if (scratch_.empty()) return;
     // Sort the overflow by entry so the layout does not depend on list history.
@@ -193,15 +267,12 @@ private:
     inv_dt_ = 1.0 / dt;
     cur_ = bucket_of(tmin);
     w0_ = cur_;
-    for (int e : scratch_) {
-      link_[e].where = kParked;
-      insert(e);
-    }
+    kcur_ = 0;
+    for (int e : scratch_) insert(e);
   }
 
   void heap_push(int e) {
     heap_.push_back(e);
-    link_[e].where = kInHeap;
     sift_up(static_cast<int>(heap_.size()) - 1);
   }
   void sift_up(int p) {
@@ -210,11 +281,11 @@ private:
       const int parent = (p - 1) / 2;
       if (!less(e, heap_[parent])) break;
       heap_[p] = heap_[parent];
-      link_[heap_[p]].hpos = p;
+      set_heap_pos(heap_[p], p);
       p = parent;
     }
     heap_[p] = e;
-    link_[e].hpos = p;
+    set_heap_pos(e, p);
   }
   void sift_down(int p) {
     const int size = static_cast<int>(heap_.size());
@@ -225,26 +296,34 @@ private:
       if (c + 1 < size && less(heap_[c + 1], heap_[c])) ++c;
       if (!less(heap_[c], e)) break;
       heap_[p] = heap_[c];
-      link_[heap_[p]].hpos = p;
+      set_heap_pos(heap_[p], p);
       p = c;
     }
     heap_[p] = e;
-    link_[e].hpos = p;
+    set_heap_pos(e, p);
   }
 
   double per_bucket_, span_;
+  std::int32_t f_;  // fine buckets per coarse bucket
   CalendarKeys key_;
   int ne_ = 0;
+  std::int32_t nc_ = 0, kcur_ = 0;  // coarse buckets in the window; the one being processed
   std::int64_t nb_ = 0, cur_ = 0, w0_ = 0, n_listed_ = 0;
   double dt_ = 0.0, inv_dt_ = 0.0;
-  // An entry's list links, list (or kInHeap/kParked) and heap position side by side: an
-  // update touches one cache line per entry instead of four.
-  struct alignas(16) Link {
-    std::int32_t next = -1, prev = -1, where = kParked, hpos = -1;
+  HugeVector<std::int32_t> where_;
+  // A bucket is a chain of chunks, appended at the tail; empty chunks form the free list.
+  static constexpr int kChunkIds = 30;
+  struct alignas(128) Chunk {
+    std::int32_t next, n;
+    std::int32_t ids[kChunkIds];
   };
-  HugeVector<Link> link_;
-  HugeVector<int> head_;
-  std::vector<int> heap_, scratch_;
+  struct Bucket {
+    std::int32_t head = -1, tail = -1;
+  };
+  std::vector<Chunk> pool_;
+  std::int32_t free_ = -1;
+  std::vector<Bucket> bucket_;
+  std::vector<std::int32_t> heap_, scratch_;
 };
 
 }  // namespace grainflow::ed

@@ -192,8 +192,8 @@ private:
     separation_now(i, j, rx, ry);
     // Smooth disks of one radius and one mass (the usual case) need nothing from the
     // bodies: no spin changes, and radius and mass are the common ones.
+    const bool plain = s_.plain_disks();
     const double um = s_.uniform_mass();
-    const bool plain = s_.rule.smooth() && um > 0.0 && s_.uniform_radius() > 0.0;
     const double m1 = plain ? um : s_.body[i].m, m2 = plain ? um : s_.body[j].m;
     const double r1 = s_.radius(i), r2 = s_.radius(j);
     const double w1 = plain ? 0.0 : s_.body[i].w, w2 = plain ? 0.0 : s_.body[j].w;

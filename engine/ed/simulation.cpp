@@ -358,15 +358,19 @@ double Simulation::min_gap() const {
 }
 
 std::vector<Simulation::MemoryPart> Simulation::memory_parts() const {
+  // Hot: what the event loop reads as it runs. The bodies only when collisions or scans
+  // need them, or agents or frozen disks (which read them at their events) are present;
+  // the TC times at every collision once the TC model is on.
+  const bool bodies_hot = !s_.plain_disks() || !s_.agents.empty() || s_.frozen_count() > 0;
   return {{"disk records", s_.disk.capacity() * sizeof(Disk), true},
-          {"bodies", s_.body.capacity() * sizeof(DiskBody), true},
+          {"bodies", s_.body.capacity() * sizeof(DiskBody), bodies_hot},
           {"event records", s_.event.capacity() * sizeof(NextEvent), true},
           {"counters", s_.counter.capacity() * sizeof(std::uint32_t), true},
           {"slot states", s_.slot.capacity() * sizeof(SlotState), true},
           {"cell map", s_.grid.memory_bytes(), true},
           {"calendar", loop_->calendar_bytes(), true},
           {"ids", s_.tag.capacity() * sizeof(std::int64_t), false},
-          {"TC times", s_.last_collision.capacity() * sizeof(double), false}};
+          {"TC times", s_.last_collision.capacity() * sizeof(double), s_.tc_on()}};
 }
 
 std::size_t Simulation::memory_bytes() const {

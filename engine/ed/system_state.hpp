@@ -241,6 +241,9 @@ public:
   double uniform_mass() const { return uniform_m_; }
   // Disk i's radius, without reading its body when all disks have one.
   double radius(int i) const { return uniform_r_ > 0.0 ? uniform_r_ : body[i].r; }
+  // Smooth disks of one radius and one mass: the loop's collisions and scans then read
+  // nothing from the bodies (agents and frozen disks still do).
+  bool plain_disks() const { return rule.smooth() && uniform_m_ > 0.0 && uniform_r_ > 0.0; }
   double inertia(int i) const { return rule.q * body[i].m * body[i].r * body[i].r; }
 
   // The way agents change a disk's velocity: keeps energy/momentum books and counters
