@@ -92,32 +92,22 @@ public:
     return heap_[0];
   }
 
-  // Calls f(e) for the entries likely to come up after the current top (its heap children,
-  // or the first entries of the next fine bucket), so the loop can prefetch their data one
-  // event ahead.
-  template <class F>
-  void peek_next(F&& f) const {
-    const std::size_t h = heap_.size();
-    if (h > 1) f(heap_[1]);
-    if (h > 2) f(heap_[2]);
-    if (h <= 2) peek_bucket(1, 2, f);
-  }
-
-  // Calls f(e) for up to `max` entries of the fine bucket `k` places after the current one
-  // (cache hints for the loop's software pipeline: stale copies included, and nothing for
-  // a bucket of the next coarse bucket, which is not spread yet).
-  template <class F>
-  void peek_bucket(int k, int max, F&& f) const {
-    const std::int64_t rel = cur_ + k - w0_;
-    if (rel >= nb_ || rel / f_ != kcur_) return;
-    const std::int32_t c = bucket_[static_cast<std::size_t>(rel % f_)].head;
-    if (c < 0) return;
-    const Chunk& ch = pool_[static_cast<std::size_t>(c)];
-    const int n = std::min(max, ch.n);
-    for (int q = 0; q < n; ++q) {
-      __builtin_prefetch(key_.at(ch.ids[q]));
-      f(ch.ids[q]);
+  // Writes up to `max` entries likely to come up after the current top, in about the
+  // order they will (the rest of the heap, then the next few fine buckets of the coarse
+  // bucket being processed; stale copies included), and returns how many: cache hints for
+  // the loop's software pipeline, which never change results.
+  int upcoming(int* out, int max) const {
+    int m = 0;
+    for (std::size_t h = 1; h < heap_.size() && m < max; ++h) out[m++] = heap_[h];
+    const std::int64_t first = cur_ + 1 - w0_;
+    for (std::int64_t rel = first; m < max && rel < first + 8 && rel < nb_ && rel / f_ == kcur_; ++rel) {
+      const Bucket& b = bucket_[static_cast<std::size_t>(rel % f_)];
+      for (std::int32_t c = b.head; c >= 0 && m < max; c = pool_[static_cast<std::size_t>(c)].next) {
+        const Chunk& ch = pool_[static_cast<std::size_t>(c)];
+        for (int q = 0, n = c == b.tail ? b.n : kChunkIds; q < n && m < max; ++q) out[m++] = ch.ids[q];
+      }
     }
+    return m;
   }
 
   double bucket_width() const { return dt_; }
@@ -149,13 +139,13 @@ private:
   // Appends e to bucket `id` (a fine or coarse bucket, or the overflow).
   void list_push(std::int32_t id, int e) {
     Bucket& b = bucket_[static_cast<std::size_t>(id)];
-    if (b.tail < 0 || pool_[static_cast<std::size_t>(b.tail)].n == kChunkIds) {
+    if (b.tail < 0 || b.n == kChunkIds) {
       const std::int32_t c = new_chunk();
       if (b.tail < 0) b.head = c; else pool_[static_cast<std::size_t>(b.tail)].next = c;
       b.tail = c;
+      b.n = 0;
     }
-    Chunk& ch = pool_[static_cast<std::size_t>(b.tail)];
-    ch.ids[ch.n++] = e;
+    pool_[static_cast<std::size_t>(b.tail)].ids[b.n++] = e;
     where_[e] = id;
     ++n_listed_;
   }
@@ -167,24 +157,27 @@ private:
       c = static_cast<std::int32_t>(pool_.size());
       pool_.emplace_back();
     }
-    Chunk& ch = pool_[static_cast<std::size_t>(c)];
-    ch.next = -1;
-    ch.n = 0;
+    pool_[static_cast<std::size_t>(c)].next = -1;
     return c;
   }
   // Calls f(e) for every id bucket `id` holds (stale copies included), then empties it
-  // and returns its chunks to the pool.
+  // and returns its chunks to the pool. Each chunk's entries (their where_ and key, which
+  // f reads: a miss each, at random) are prefetched together before f sees them.
   template <class F>
   void drain(std::int32_t id, F&& f) {
-    Bucket& b = bucket_[static_cast<std::size_t>(id)];
-    std::int32_t c = b.head;
-    b = Bucket{};
-    while (c >= 0) {
+    const Bucket b = bucket_[static_cast<std::size_t>(id)];
+    bucket_[static_cast<std::size_t>(id)] = Bucket{};
+    for (std::int32_t c = b.head; c >= 0;) {
       // By index, not by reference: f may append to other buckets and so grow the pool.
       const std::size_t ci = static_cast<std::size_t>(c);
       const std::int32_t next = pool_[ci].next;
       if (next >= 0) __builtin_prefetch(&pool_[static_cast<std::size_t>(next)]);
-      for (int q = 0, n = pool_[ci].n; q < n; ++q) f(pool_[ci].ids[q]);
+      const int n = c == b.tail ? b.n : kChunkIds;
+      for (int q = 0; q < n; ++q) {
+        __builtin_prefetch(&where_[pool_[ci].ids[q]]);
+        __builtin_prefetch(key_.at(pool_[ci].ids[q]));
+      }
+      for (int q = 0; q < n; ++q) f(pool_[ci].ids[q]);
       pool_[ci].next = free_;
       free_ = c;
       c = next;
@@ -312,13 +305,15 @@ private:
   double dt_ = 0.0, inv_dt_ = 0.0;
   HugeVector<std::int32_t> where_;
   // A bucket is a chain of chunks, appended at the tail; empty chunks form the free list.
-  static constexpr int kChunkIds = 30;
-  struct alignas(128) Chunk {
-    std::int32_t next, n;
+  // One cache line per chunk; a bucket keeps the fill of its tail chunk (the others are
+  // full), so an append writes only the tail chunk.
+  static constexpr int kChunkIds = 15;
+  struct alignas(64) Chunk {
+    std::int32_t next;
     std::int32_t ids[kChunkIds];
   };
   struct Bucket {
-    std::int32_t head = -1, tail = -1;
+    std::int32_t head = -1, tail = -1, n = 0;
   };
   std::vector<Chunk> pool_;
   std::int32_t free_ = -1;

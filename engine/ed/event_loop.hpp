@@ -151,6 +151,8 @@ private:
       s_.grid.for_block_members(s_.grid.cell(ev.partner), [this](int j) { prefetch_disk(j); });
   }
 
+  static constexpr int kPipelineDepth = 8;  // events looked ahead by the prefetch stages
+
   void process(int e) {
     ++s_.stats.events;
     s_.advance_clock(s_.event[e].key);
@@ -159,10 +161,14 @@ private:
     // Software pipelining: the memory of the coming events is fetched in stages while this
     // one runs (see prefetch_entry … prefetch_partner_neighbourhood), and this event's own
     // cells while its partner's counter is checked.
-    cal_.peek_bucket(3, 2, [this](int x) { prefetch_entry(x); });
-    cal_.peek_bucket(2, 2, [this](int x) { prefetch_surroundings(x); });
-    cal_.peek_bucket(1, 3, [this](int x) { prefetch_neighbourhood(x); });
-    cal_.peek_next([this](int x) { prefetch_partner_neighbourhood(x); });
+    // Each stage takes two places of the queue ahead, so an entry that moves up two places
+    // at once (a stale copy ahead of it dropped) still passes through every stage.
+    int up[kPipelineDepth];
+    const int m = cal_.upcoming(up, kPipelineDepth);
+    for (int k = 6; k < m; ++k) prefetch_entry(up[k]);
+    for (int k = 4; k < std::min(m, 6); ++k) prefetch_surroundings(up[k]);
+    for (int k = 2; k < std::min(m, 4); ++k) prefetch_neighbourhood(up[k]);
+    for (int k = 0; k < std::min(m, 2); ++k) prefetch_partner_neighbourhood(up[k]);
     if (e < n) s_.grid.prefetch_block(s_.grid.cell(e));
     if (e >= n) {
       timer_event(e - n);
