@@ -315,7 +315,7 @@ private:
   struct Bucket {
     std::int32_t head = -1, tail = -1, n = 0;
   };
-  std::vector<Chunk> pool_;
+  HugeVector<Chunk> pool_;
   std::int32_t free_ = -1;
   std::vector<Bucket> bucket_;
   std::vector<std::int32_t> heap_, scratch_;

@@ -103,7 +103,7 @@ public:
   // Bumped whenever the disk's velocity changes (or it comes/goes), so that events naming
   // it turn stale. Kept apart from the event records: at 4 bytes a disk the array stays
   // in cache, where a record would cost a memory access per neighbour predicted.
-  std::vector<std::uint32_t> counter;
+  HugeVector<std::uint32_t> counter;
   std::vector<SlotState> slot;
   // Each slot's disk's persistent id, as LAMMPS calls it a tag: what particle files write
   // as `id`. A disk keeps it for as long as it is in the system — through collisions,
@@ -356,7 +356,7 @@ public:
     std::uint64_t next_rebase = 0;
     HugeVector<Disk> disk;
     HugeVector<DiskBody> body;
-    std::vector<std::uint32_t> counter;
+    HugeVector<std::uint32_t> counter;
     std::vector<SlotState> slot;
     HugeVector<NextEvent> event;
     std::vector<int> touched, free, added;
