@@ -92,24 +92,6 @@ public:
     return heap_[0];
   }
 
-  // Writes up to `max` entries likely to come up after the current top, in about the
-  // order they will (the rest of the heap, then the next few fine buckets of the coarse
-  // bucket being processed; stale copies included), and returns how many: cache hints for
-  // the loop's software pipeline, which never change results.
-  int upcoming(int* out, int max) const {
-    int m = 0;
-    for (std::size_t h = 1; h < heap_.size() && m < max; ++h) out[m++] = heap_[h];
-    const std::int64_t first = cur_ + 1 - w0_;
-    for (std::int64_t rel = first; m < max && rel < first + 8 && rel < nb_ && rel / f_ == kcur_; ++rel) {
-      const Bucket& b = bucket_[static_cast<std::size_t>(rel % f_)];
-      for (std::int32_t c = b.head; c >= 0 && m < max; c = pool_[static_cast<std::size_t>(c)].next) {
-        const Chunk& ch = pool_[static_cast<std::size_t>(c)];
-        for (int q = 0, n = c == b.tail ? b.n : kChunkIds; q < n && m < max; ++q) out[m++] = ch.ids[q];
-      }
-    }
-    return m;
-  }
-
   double bucket_width() const { return dt_; }
   std::size_t memory_bytes() const {
     return (heap_.capacity() + scratch_.capacity() + where_.capacity()) * 4 + pool_.capacity() * sizeof(Chunk) +

@@ -73,9 +73,8 @@ public:
   const std::int32_t* members(int c) const { return &slots_[static_cast<std::size_t>(c) * stride_ + 1]; }
   int capacity() const { return cap_; }
   int cell(int i) const { return cell_[i]; }
-  // Cache hints (no effect on results): disk i's cell entry, and the member slots of the
-  // 3×3 block of cells around cell c (three runs of three cells each).
-  void prefetch_cell_of(int i) const { __builtin_prefetch(cell_.data() + i); }
+  // Cache hint (no effect on results): the member slots of the 3×3 block of cells around
+  // cell c (three runs of three cells each).
   void prefetch_block(int c) const {
     block_rows(c, [this](int first, int last) {
       const char* a = reinterpret_cast<const char*>(cell_slots(first));
@@ -104,16 +103,6 @@ public:
         f(index(cx, cy));
       }
     }
-  }
-  // Calls f(j) for every disk of the 3×3 block around cell c (for cache hints).
-  template <class F>
-  void for_block_members(int c, F&& f) const {
-    block_rows(c, [&](int first, int last) {
-      for (int cc = first; cc <= last; ++cc) {
-        const std::int32_t* s = cell_slots(cc);
-        for (int q = 1; q <= s[0]; ++q) f(s[q]);
-      }
-    });
   }
   std::size_t memory_bytes() const { return (slots_.capacity() + cell_.capacity() + pos_.capacity()) * 4; }
 

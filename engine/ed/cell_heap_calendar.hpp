@@ -56,15 +56,6 @@ public:
   }
   // Entry with the earliest (time, entry) key, or −1 when nothing is scheduled.
   int top() const { return bt_[heap_[0]] == kInf ? -1 : be_[heap_[0]]; }
-  // Writes the entries likely to come up after the current top (the best entries of the
-  // root's children; nothing further ahead) to out, at most max, and returns how many:
-  // cache hints for the loop's software pipeline.
-  int upcoming(int* out, int max) const {
-    int m = 0;
-    for (std::size_t k = 1; k <= 2 && k < heap_.size() && m < max; ++k)
-      if (bt_[heap_[k]] != kInf) out[m++] = be_[heap_[k]];
-    return m;
-  }
   std::size_t memory_bytes() const {
     return bt_.capacity() * 8 + (be_.capacity() + heap_.capacity() + pos_.capacity()) * 4 +
            dirty_flag_.capacity();

@@ -57,11 +57,6 @@ void check(const Tuning& tn, int n, int pops, std::uint64_t seed) {
   };
   int popped = 0;
   for (int k = 0; k < pops; ++k) {
-    // The prefetch hints may name any entry, but only entries.
-    int up[12];
-    const int m = cal.upcoming(up, 12);
-    ASSERT_TRUE(m >= 0 && m <= 12);
-    for (int q = 0; q < m; ++q) ASSERT_TRUE(up[q] >= 0 && up[q] < n);
     const int e = cal.top();
     const int want = brute_force_top(key);
     ASSERT_EQ(e, want) << "pop " << k;
