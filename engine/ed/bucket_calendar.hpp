@@ -60,9 +60,7 @@ public:
   void update(int e) {
     const double t = key_[e];
     if (where_[e] <= kHeap0 && std::isfinite(t) && bucket_of(t) <= cur_) {
-      // Stays in the near-future window: re-sift in place.
-      const int p = heap_pos(e);
-      if (p > 0 && less(e, heap_[(p - 1) / 2])) sift_up(p); else sift_down(p);
+      resift(heap_pos(e));  // stays in the near-future window: re-sift in place
       return;
     }
     detach(e);
@@ -186,7 +184,7 @@ private:
       if (last != e) {
         heap_[p] = last;
         set_heap_pos(last, p);
-        if (p > 0 && less(last, heap_[(p - 1) / 2])) sift_up(p); else sift_down(p);
+        resift(p);
       }
     } else {
       --n_listed_;
@@ -249,6 +247,10 @@ private:
   void heap_push(int e) {
     heap_.push_back(e);
     sift_up(static_cast<int>(heap_.size()) - 1);
+  }
+  // Restores the heap order around position p after its entry's key changed.
+  void resift(int p) {
+    if (p > 0 && less(heap_[p], heap_[(p - 1) / 2])) sift_up(p); else sift_down(p);
   }
   void sift_up(int p) {
     const int e = heap_[p];

@@ -358,9 +358,7 @@ double Simulation::min_gap() const {
 }
 
 std::vector<Simulation::MemoryPart> Simulation::memory_parts() const {
-  // Hot: what the event loop reads as it runs. The bodies only when collisions or scans
-  // need them, or agents or frozen disks (which read them at their events) are present;
-  // the TC times at every collision once the TC model is on.
+  // Agents and frozen disks read the bodies at their events (see simulation.hpp).
   const bool bodies_hot = !s_.plain_disks() || !s_.agents.empty() || s_.frozen_count() > 0;
   return {{"disk records", s_.disk.capacity() * sizeof(Disk), true},
           {"bodies", s_.body.capacity() * sizeof(DiskBody), bodies_hot},
