@@ -111,6 +111,11 @@ public:
   const char* calendar_name() const override { return Calendar::kName; }
 
 private:
+  struct Candidate {
+    int j;  // disk
+    int k;  // its cell's place in the scanned list (image shift shx[k], shy[k])
+  };
+
   void process(int e) {
     ++s_.stats.events;
     s_.advance_clock(s_.event[e].key);
@@ -187,10 +192,7 @@ private:
     if (on_collision) on_collision(CollisionRecord{i, j, s_.now()});
     // A heap-based calendar must see each key change before the next one (an entry whose
     // key changed but is not yet re-sifted would mislead the other's sift).
-    predict_full(i);
-    cal_.update(i);
-    predict_full(j);
-    cal_.update(j);
+    predict_parties(i, j);
   }
 
   void crossing(int i) {
@@ -477,14 +479,15 @@ private:
   // di: disk i's position now (not at the epoch) and velocity; ri: its radius.
   void scan_cells(int i, const Disk& di, double ri, const int* cells, const double* shx, const double* shy, int nc,
                   double& best_out, int& who_out, EventKind& kind_out) {
-    // Locals, so that the running minimum stays in registers (the references could alias
-    // the stores below).
-    double best = best_out;
-    int who = who_out;
-    EventKind kind = kind_out;
+    const int n = gather(i, cells, nc, cand_);
+    evaluate(di, ri, cand_.data(), n, shx, shy, best_out, who_out, kind_out);
+  }
+  // The first half of a scan: disk i's candidates from cells[0..nc) into buf, each one's
+  // record fetched as it is listed; returns their number.
+  int gather(int i, const int* cells, int nc, std::vector<Candidate>& buf) {
     const CellGrid& g = s_.grid;
     const std::size_t need = static_cast<std::size_t>(nc) * static_cast<std::size_t>(g.capacity());
-    if (cand_.size() < need) cand_.resize(need);
+    if (buf.size() < need) buf.resize(need);
     // Local pointers: stores into the candidate list cannot alias them, so the loops
     // below do not reload the grid's fields at every step.
     const std::int32_t* slot[9];
@@ -493,7 +496,7 @@ private:
       __builtin_prefetch(slot[k]);
     }
     const Disk* __restrict disk = s_.disk.data();
-    Candidate* __restrict cand = cand_.data();
+    Candidate* __restrict cand = buf.data();
     int n = 0;
     for (int k = 0; k < nc; ++k) {
       const std::int32_t* s = slot[k];
@@ -504,6 +507,18 @@ private:
         n += (j != i);
       }
     }
+    return n;
+  }
+  // The second half: the earliest pair event of a disk at di now (radius ri) with the
+  // candidates cand[0..n) (their cells' image shifts in shx, shy), if earlier than best_out.
+  void evaluate(const Disk& di, double ri, const Candidate* __restrict cand, int n, const double* shx,
+                const double* shy, double& best_out, int& who_out, EventKind& kind_out) const {
+    // Locals, so that the running minimum stays in registers (the references could alias
+    // the stores below).
+    double best = best_out;
+    int who = who_out;
+    EventKind kind = kind_out;
+    const Disk* __restrict disk = s_.disk.data();
     // Two candidates per step in SSE2 lanes (the same IEEE operations in the same order
     // as pair_collision_time, so the same bits); the minimum is then taken in candidate order.
     // Each candidate is taken to now from the common epoch; with disks of one size the
@@ -596,22 +611,20 @@ private:
     ev.partner_count = kind == EventKind::Pair ? s_.counter[who] : 0u;
   }
 
-  // Full prediction for disk i over its 3×3 neighbourhood (§2.2) and its cell's agents.
-  void predict_full(int i) {
-    const CellGrid& g = s_.grid;
-    const Disk di = now_record(i);
-    const int c = g.cell(i);
-    const int ix = g.ix(c), iy = g.iy(c);
-    double best = kNever;
-    int who = -1;
-    EventKind kind = EventKind::None;
+  // The 3×3 block of cells around cell c (§2.2), in scan order, with image shifts.
+  struct Block {
     int cells[9];
     double shx[9] = {}, shy[9] = {};
     int nc = 0;
+  };
+  Block block(int c) const {
+    const CellGrid& g = s_.grid;
+    const int ix = g.ix(c), iy = g.iy(c);
+    Block b;
     if (ix > 0 && ix + 1 < g.nx() && iy > 0 && iy + 1 < g.ny()) {
       // Away from the edges (nearly always): the 3×3 block in the same order, no images.
       for (int ky = -1; ky <= 1; ++ky)
-        for (int kx = -1; kx <= 1; ++kx) cells[nc++] = c + ky * g.nx() + kx;
+        for (int kx = -1; kx <= 1; ++kx) b.cells[b.nc++] = c + ky * g.nx() + kx;
     } else {
       for (int ky = -1; ky <= 1; ++ky) {
         int cy = iy + ky;
@@ -621,16 +634,54 @@ private:
           int cx = ix + kx;
           double sx = 0.0;
           if (!wrap(cx, g.nx(), g.periodic_x(), g.lx(), sx)) continue;
-          cells[nc] = g.index(cx, cy);
-          shx[nc] = sx;
-          shy[nc++] = sy;
+          b.cells[b.nc] = g.index(cx, cy);
+          b.shx[b.nc] = sx;
+          b.shy[b.nc++] = sy;
         }
       }
     }
-    scan_cells(i, di, s_.radius(i), cells, shx, shy, nc, best, who, kind);
+    return b;
+  }
+
+  // Full prediction for disk i over its 3×3 neighbourhood (§2.2) and its cell's agents.
+  void predict_full(int i) {
+    const int c = s_.grid.cell(i);
+    const Block b = block(c);
+    double best = kNever;
+    int who = -1;
+    EventKind kind = EventKind::None;
+    scan_cells(i, now_record(i), s_.radius(i), b.cells, b.shx, b.shy, b.nc, best, who, kind);
     scan_agents(i, c, best, who, kind);
     store_pair(i, best, who, kind);
     schedule(i);
+  }
+  // predict_full(i), cal_.update(i), predict_full(j), cal_.update(j) — the two parties of a
+  // collision — with the candidates of both listed first, so that the cache misses of the
+  // two neighbourhoods are in flight together. The same records (a prediction reads
+  // nothing the other's record or calendar update changes).
+  void predict_parties(int i, int j) {
+    const CellGrid& g = s_.grid;
+    const int ci = g.cell(i), cj = g.cell(j);
+    const Block bi = block(ci), bj = block(cj);
+    for (int k = 0; k < bj.nc; ++k) __builtin_prefetch(g.cell_slots(bj.cells[k]));
+    const int ni = gather(i, bi.cells, bi.nc, cand_);
+    const int nj = gather(j, bj.cells, bj.nc, cand_j_);
+    double best = kNever;
+    int who = -1;
+    EventKind kind = EventKind::None;
+    evaluate(now_record(i), s_.radius(i), cand_.data(), ni, bi.shx, bi.shy, best, who, kind);
+    scan_agents(i, ci, best, who, kind);
+    store_pair(i, best, who, kind);
+    schedule(i);
+    cal_.update(i);
+    best = kNever;
+    who = -1;
+    kind = EventKind::None;
+    evaluate(now_record(j), s_.radius(j), cand_j_.data(), nj, bj.shx, bj.shy, best, who, kind);
+    scan_agents(j, cj, best, who, kind);
+    store_pair(j, best, who, kind);
+    schedule(j);
+    cal_.update(j);
   }
 
   // Sets disk i's calendar key to the earlier of its pair event (already stored) and the
@@ -681,15 +732,12 @@ private:
     ry = a.y - (b.y + sy);
   }
 
-  struct Candidate {
-    int j;  // disk
-    int k;  // its cell's place in the scanned list (image shift shx[k], shy[k])
-  };
 
   SystemState& s_;
   Calendar cal_;
   std::vector<int> around_;      // scratch: disks around newcomers
   std::vector<Candidate> cand_;  // scratch of scan_cells
+  std::vector<Candidate> cand_j_;  // the second party's, in predict_parties
   CollisionParams tc_rule_;      // scratch of tc_elastic_rule
 };
 
