@@ -148,6 +148,7 @@ private:
   }
 
   void collide(int i, int j) {
+    list_parties(i, j);
     const Disk& a = s_.disk[i];
     const Disk& b = s_.disk[j];
     double rx, ry;
@@ -614,17 +615,20 @@ private:
   // The 3×3 block of cells around cell c (§2.2), in scan order, with image shifts.
   struct Block {
     int cells[9];
-    double shx[9] = {}, shy[9] = {};
+    double shx[9], shy[9];
     int nc = 0;
   };
-  Block block(int c) const {
+  void block(int c, Block& b) const {
     const CellGrid& g = s_.grid;
     const int ix = g.ix(c), iy = g.iy(c);
-    Block b;
+    b.nc = 0;
     if (ix > 0 && ix + 1 < g.nx() && iy > 0 && iy + 1 < g.ny()) {
       // Away from the edges (nearly always): the 3×3 block in the same order, no images.
       for (int ky = -1; ky <= 1; ++ky)
-        for (int kx = -1; kx <= 1; ++kx) b.cells[b.nc++] = c + ky * g.nx() + kx;
+        for (int kx = -1; kx <= 1; ++kx) {
+          b.shx[b.nc] = b.shy[b.nc] = 0.0;
+          b.cells[b.nc++] = c + ky * g.nx() + kx;
+        }
     } else {
       for (int ky = -1; ky <= 1; ++ky) {
         int cy = iy + ky;
@@ -640,13 +644,13 @@ private:
         }
       }
     }
-    return b;
   }
 
   // Full prediction for disk i over its 3×3 neighbourhood (§2.2) and its cell's agents.
   void predict_full(int i) {
     const int c = s_.grid.cell(i);
-    const Block b = block(c);
+    Block b;
+    block(c, b);
     double best = kNever;
     int who = -1;
     EventKind kind = EventKind::None;
@@ -656,16 +660,25 @@ private:
     schedule(i);
   }
   // predict_full(i), cal_.update(i), predict_full(j), cal_.update(j) — the two parties of a
-  // collision — with the candidates of both listed first, so that the cache misses of the
-  // two neighbourhoods are in flight together. The same records (a prediction reads
-  // nothing the other's record or calendar update changes).
-  void predict_parties(int i, int j) {
+  // collision — in two halves: list_parties lists the candidates of both neighbourhoods
+  // (before the collision: its cache misses then overlap those of the parties' records),
+  // predict_parties computes the records. The same records: membership does not change
+  // in a collision, each candidate's record is read when evaluated, and a prediction
+  // reads nothing the other's record or calendar update changes.
+  void list_parties(int i, int j) {
     const CellGrid& g = s_.grid;
-    const int ci = g.cell(i), cj = g.cell(j);
-    const Block bi = block(ci), bj = block(cj);
-    for (int k = 0; k < bj.nc; ++k) __builtin_prefetch(g.cell_slots(bj.cells[k]));
-    const int ni = gather(i, bi.cells, bi.nc, cand_);
-    const int nj = gather(j, bj.cells, bj.nc, cand_j_);
+    party_c_[0] = g.cell(i);
+    party_c_[1] = g.cell(j);
+    block(party_c_[0], party_[0]);
+    block(party_c_[1], party_[1]);
+    for (int k = 0; k < party_[1].nc; ++k) __builtin_prefetch(g.cell_slots(party_[1].cells[k]));
+    party_n_[0] = gather(i, party_[0].cells, party_[0].nc, cand_);
+    party_n_[1] = gather(j, party_[1].cells, party_[1].nc, cand_j_);
+  }
+  void predict_parties(int i, int j) {
+    const int ci = party_c_[0], cj = party_c_[1], ni = party_n_[0], nj = party_n_[1];
+    const Block& bi = party_[0];
+    const Block& bj = party_[1];
     double best = kNever;
     int who = -1;
     EventKind kind = EventKind::None;
@@ -737,7 +750,9 @@ private:
   Calendar cal_;
   std::vector<int> around_;      // scratch: disks around newcomers
   std::vector<Candidate> cand_;  // scratch of scan_cells
-  std::vector<Candidate> cand_j_;  // the second party's, in predict_parties
+  std::vector<Candidate> cand_j_;  // the second party's, in list_parties
+  Block party_[2];                 // the parties' blocks, cells and candidates (list_parties)
+  int party_c_[2] = {}, party_n_[2] = {};
   CollisionParams tc_rule_;      // scratch of tc_elastic_rule
 };
 
