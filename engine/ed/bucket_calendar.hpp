@@ -67,6 +67,8 @@ public:
     insert(e);
   }
   void moved(int, int, int) {}
+  // Cache hint: entry e is about to be updated.
+  void prefetch(int e) const { __builtin_prefetch(&where_[e]); }
   // Entry e's disk left the system (its key is already kNever).
   void removed(int e, int /*cell*/) { detach(e); }
   void commit() {}

@@ -674,6 +674,8 @@ private:
     for (int k = 0; k < party_[1].nc; ++k) __builtin_prefetch(g.cell_slots(party_[1].cells[k]));
     party_n_[0] = gather(i, party_[0].cells, party_[0].nc, cand_);
     party_n_[1] = gather(j, party_[1].cells, party_[1].nc, cand_j_);
+    __builtin_prefetch(&s_.event[j], 1);  // written by predict_parties
+    if constexpr (requires(Calendar& c) { c.prefetch(0); }) cal_.prefetch(j);
   }
   void predict_parties(int i, int j) {
     const int ci = party_c_[0], cj = party_c_[1], ni = party_n_[0], nj = party_n_[1];
