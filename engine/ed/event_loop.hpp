@@ -651,10 +651,14 @@ private:
     const int c = s_.grid.cell(i);
     Block b;
     block(c, b);
+    predict_listed(i, c, b, cand_.data(), gather(i, b.cells, b.nc, cand_));
+  }
+  // The same from disk i's candidates already listed: cand[0..n) from block b around its cell c.
+  void predict_listed(int i, int c, const Block& b, const Candidate* cand, int n) {
     double best = kNever;
     int who = -1;
     EventKind kind = EventKind::None;
-    scan_cells(i, now_record(i), s_.radius(i), b.cells, b.shx, b.shy, b.nc, best, who, kind);
+    evaluate(now_record(i), s_.radius(i), cand, n, b.shx, b.shy, best, who, kind);
     scan_agents(i, c, best, who, kind);
     store_pair(i, best, who, kind);
     schedule(i);
@@ -678,24 +682,9 @@ private:
     if constexpr (requires(Calendar& c) { c.prefetch(0); }) cal_.prefetch(j);
   }
   void predict_parties(int i, int j) {
-    const int ci = party_c_[0], cj = party_c_[1], ni = party_n_[0], nj = party_n_[1];
-    const Block& bi = party_[0];
-    const Block& bj = party_[1];
-    double best = kNever;
-    int who = -1;
-    EventKind kind = EventKind::None;
-    evaluate(now_record(i), s_.radius(i), cand_.data(), ni, bi.shx, bi.shy, best, who, kind);
-    scan_agents(i, ci, best, who, kind);
-    store_pair(i, best, who, kind);
-    schedule(i);
+    predict_listed(i, party_c_[0], party_[0], cand_.data(), party_n_[0]);
     cal_.update(i);
-    best = kNever;
-    who = -1;
-    kind = EventKind::None;
-    evaluate(now_record(j), s_.radius(j), cand_j_.data(), nj, bj.shx, bj.shy, best, who, kind);
-    scan_agents(j, cj, best, who, kind);
-    store_pair(j, best, who, kind);
-    schedule(j);
+    predict_listed(j, party_c_[1], party_[1], cand_j_.data(), party_n_[1]);
     cal_.update(j);
   }
 
@@ -746,7 +735,6 @@ private:
     rx = a.x - (b.x + sx);
     ry = a.y - (b.y + sy);
   }
-
 
   SystemState& s_;
   Calendar cal_;
