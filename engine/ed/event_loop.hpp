@@ -612,8 +612,9 @@ private:
     ev.partner_count = kind == EventKind::Pair ? s_.counter[who] : 0u;
   }
 
-  // The 3×3 block of cells around cell c (§2.2), in scan order, with image shifts.
+  // The 3×3 block of cells around cell `centre` (§2.2), in scan order, with image shifts.
   struct Block {
+    int centre = -1;
     int cells[9];
     double shx[9], shy[9];
     int nc = 0;
@@ -621,6 +622,7 @@ private:
   void block(int c, Block& b) const {
     const CellGrid& g = s_.grid;
     const int ix = g.ix(c), iy = g.iy(c);
+    b.centre = c;
     b.nc = 0;
     if (ix > 0 && ix + 1 < g.nx() && iy > 0 && iy + 1 < g.ny()) {
       // Away from the edges (nearly always): the 3×3 block in the same order, no images.
@@ -648,18 +650,17 @@ private:
 
   // Full prediction for disk i over its 3×3 neighbourhood (§2.2) and its cell's agents.
   void predict_full(int i) {
-    const int c = s_.grid.cell(i);
     Block b;
-    block(c, b);
-    predict_listed(i, c, b, cand_.data(), gather(i, b.cells, b.nc, cand_));
+    block(s_.grid.cell(i), b);
+    predict_listed(i, b, cand_.data(), gather(i, b.cells, b.nc, cand_));
   }
-  // The same from disk i's candidates already listed: cand[0..n) from block b around its cell c.
-  void predict_listed(int i, int c, const Block& b, const Candidate* cand, int n) {
+  // The same from disk i's candidates already listed: cand[0..n) from the block b around its cell.
+  void predict_listed(int i, const Block& b, const Candidate* cand, int n) {
     double best = kNever;
     int who = -1;
     EventKind kind = EventKind::None;
     evaluate(now_record(i), s_.radius(i), cand, n, b.shx, b.shy, best, who, kind);
-    scan_agents(i, c, best, who, kind);
+    scan_agents(i, b.centre, best, who, kind);
     store_pair(i, best, who, kind);
     schedule(i);
   }
@@ -671,20 +672,20 @@ private:
   // reads nothing the other's record or calendar update changes.
   void list_parties(int i, int j) {
     const CellGrid& g = s_.grid;
-    party_c_[0] = g.cell(i);
-    party_c_[1] = g.cell(j);
-    block(party_c_[0], party_[0]);
-    block(party_c_[1], party_[1]);
-    for (int k = 0; k < party_[1].nc; ++k) __builtin_prefetch(g.cell_slots(party_[1].cells[k]));
-    party_n_[0] = gather(i, party_[0].cells, party_[0].nc, cand_);
-    party_n_[1] = gather(j, party_[1].cells, party_[1].nc, cand_j_);
+    Party& a = party_[0];
+    Party& b = party_[1];
+    block(g.cell(i), a.block);
+    block(g.cell(j), b.block);
+    for (int k = 0; k < b.block.nc; ++k) __builtin_prefetch(g.cell_slots(b.block.cells[k]));
+    a.n = gather(i, a.block.cells, a.block.nc, a.cand);
+    b.n = gather(j, b.block.cells, b.block.nc, b.cand);
     __builtin_prefetch(&s_.event[j], 1);  // written by predict_parties
-    if constexpr (requires(Calendar& c) { c.prefetch(0); }) cal_.prefetch(j);
+    cal_.prefetch(j);
   }
   void predict_parties(int i, int j) {
-    predict_listed(i, party_c_[0], party_[0], cand_.data(), party_n_[0]);
+    predict_listed(i, party_[0].block, party_[0].cand.data(), party_[0].n);
     cal_.update(i);
-    predict_listed(j, party_c_[1], party_[1], cand_j_.data(), party_n_[1]);
+    predict_listed(j, party_[1].block, party_[1].cand.data(), party_[1].n);
     cal_.update(j);
   }
 
@@ -740,9 +741,13 @@ private:
   Calendar cal_;
   std::vector<int> around_;      // scratch: disks around newcomers
   std::vector<Candidate> cand_;  // scratch of scan_cells
-  std::vector<Candidate> cand_j_;  // the second party's, in list_parties
-  Block party_[2];                 // the parties' blocks, cells and candidates (list_parties)
-  int party_c_[2] = {}, party_n_[2] = {};
+  // A collision's parties, listed by list_parties: block, candidates and their number.
+  struct Party {
+    Block block;
+    std::vector<Candidate> cand;
+    int n = 0;
+  };
+  Party party_[2];
   CollisionParams tc_rule_;      // scratch of tc_elastic_rule
 };
 
