@@ -48,7 +48,10 @@ void CellGrid::save_members(io::ArchiveWriter& w) const {
   w.pod(static_cast<std::int32_t>(cap_));
   w.array(slots_);
   w.array(cell_);
-  w.array(pos_);
+  HugeVector<std::int32_t> pos(cell_.size(), -1);
+  for (int c = 0; c < size(); ++c)
+    for (int k = 0; k < count(c); ++k) pos[static_cast<std::size_t>(members(c)[k])] = k;
+  w.array(pos);
 }
 
 CellGrid::Members CellGrid::read_members(io::ArchiveReader& r, int n_disks) const {

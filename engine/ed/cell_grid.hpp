@@ -50,21 +50,23 @@ public:
   // so a neighbourhood scan reads one short contiguous block per cell instead of chasing
   // a linked list. The capacity follows from Groemer's packing bound for centres at least
   // min_diameter apart in a cell (N ≤ 2A/(√3 d²) + P/(2d) + 1).
-  void resize_particles(int n) { cell_.assign(n, -1); pos_.assign(n, -1); }
+  void resize_particles(int n) { cell_.assign(n, -1); }
   // More disk slots, keeping the present ones (disks entering an open stream, §3.2–3.3).
-  void grow_particles(int n) { cell_.resize(n, -1); pos_.resize(n, -1); }
+  void grow_particles(int n) { cell_.resize(n, -1); }
   void insert(int i, int c) {
     std::int32_t* s = &slots_[static_cast<std::size_t>(c) * stride_];
     if (s[0] >= cap_) overflow(c);
     cell_[i] = c;
-    pos_[i] = s[0];
     s[1 + s[0]++] = i;
   }
+  // The last member takes i's place. i's place is found in the cell's few slots, on the
+  // line that is written anyway, rather than kept per disk: a per-disk place array costs
+  // 4 bytes a disk and a cache miss for i's place and another for the last member's.
   void remove(int i) {
     std::int32_t* s = &slots_[static_cast<std::size_t>(cell_[i]) * stride_];
-    const int last = s[s[0]--];
-    s[1 + pos_[i]] = last;
-    pos_[last] = pos_[i];
+    std::int32_t* p = s + 1;
+    while (*p != i) ++p;  // i is a member: the search ends inside the cell
+    *p = s[s[0]--];
     cell_[i] = -1;
   }
   int count(int c) const { return slots_[static_cast<std::size_t>(c) * stride_]; }
@@ -104,11 +106,12 @@ public:
       }
     }
   }
-  std::size_t memory_bytes() const { return (slots_.capacity() + cell_.capacity() + pos_.capacity()) * 4; }
+  std::size_t memory_bytes() const { return (slots_.capacity() + cell_.capacity()) * 4; }
 
   // ---- checkpoints: the membership arrays verbatim (the order of a cell's members is the
-  // order its neighbourhood is scanned in, which decides ties); the geometry is rebuilt
-  // from the configuration and only compared.
+  // order its neighbourhood is scanned in, which decides ties), and each disk's place in its
+  // cell (derived from the slots, kept in the archive for its checks); the geometry is
+  // rebuilt from the configuration and only compared.
   struct Members {
     HugeVector<std::int32_t> slots, cell, pos;
   };
@@ -120,7 +123,6 @@ public:
   void adopt_members(Members&& m) noexcept {
     slots_.swap(m.slots);
     cell_.swap(m.cell);
-    pos_.swap(m.pos);
   }
 
 private:
@@ -139,7 +141,7 @@ private:
   bool px_ = false, py_ = false;
   void overflow(int c) const;  // throws: only overlapping disks can overfill a cell
   int cap_ = 0, stride_ = 1;
-  HugeVector<std::int32_t> slots_, cell_, pos_;
+  HugeVector<std::int32_t> slots_, cell_;
 };
 
 }  // namespace grainflow::ed
