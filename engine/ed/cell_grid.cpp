@@ -27,8 +27,23 @@ CellGrid::CellGrid(double lx, double ly, bool periodic_x, bool periodic_y, doubl
   const double d = min_diameter;
   if (!(d > 0.0)) throw Error(fmt::format("ed: smallest disk diameter {} must be positive", d));
   cap_ = static_cast<int>(std::floor(2.0 * w_ * h_ / (std::sqrt(3.0) * d * d) + (w_ + h_) / d + 1.0));
-  stride_ = cap_ + 1;
-  slots_.assign(static_cast<std::size_t>(nx_) * ny_ * stride_, 0);
+  stride_ = (static_cast<std::size_t>(kSlotBytes) * (cap_ + 1) + 3) / 4 * 4;
+  slots_.assign(static_cast<std::size_t>(nx_) * ny_ * stride_ + 4, 0);
+}
+
+void CellGrid::check_disks(int n) const {
+  if (n > kMaxDisks)
+    throw Error(fmt::format("ed: {} disk slots asked for; the cell map names at most {} (3-byte slots)", n, kMaxDisks));
+}
+
+HugeVector<std::int32_t> CellGrid::unpacked_slots() const {
+  HugeVector<std::int32_t> out(static_cast<std::size_t>(size()) * (cap_ + 1), 0);
+  for (int c = 0; c < size(); ++c) {
+    std::int32_t* o = &out[static_cast<std::size_t>(c) * (cap_ + 1)];
+    o[0] = count(c);
+    for (int k = 0; k < o[0]; ++k) o[1 + k] = member(c, k);
+  }
+  return out;
 }
 
 void CellGrid::overflow(int c) const {
@@ -46,11 +61,11 @@ void CellGrid::save_members(io::ArchiveWriter& w) const {
   w.pod(static_cast<std::int32_t>(nx_));
   w.pod(static_cast<std::int32_t>(ny_));
   w.pod(static_cast<std::int32_t>(cap_));
-  w.array(slots_);
+  w.array(unpacked_slots());
   w.array(cell_);
   HugeVector<std::int32_t> pos(cell_.size(), -1);
   for (int c = 0; c < size(); ++c)
-    for (int k = 0; k < count(c); ++k) pos[static_cast<std::size_t>(members(c)[k])] = k;
+    for (int k = 0; k < count(c); ++k) pos[static_cast<std::size_t>(member(c, k))] = k;
   w.array(pos);
 }
 
@@ -61,9 +76,19 @@ CellGrid::Members CellGrid::read_members(io::ArchiveReader& r, int n_disks) cons
                            "here (another box, cell size or disk diameter)",
                            nx, ny, cap, nx_, ny_, cap_));
   Members m;
-  r.array_of(m.slots, slots_.size(), "the cell slot blocks");
+  r.array_of(m.slots, static_cast<std::size_t>(size()) * (cap_ + 1), "the cell slot blocks");
   r.array_of(m.cell, static_cast<std::size_t>(n_disks), "the disks' cells");
   r.array_of(m.pos, static_cast<std::size_t>(n_disks), "the disks' places in their cells");
+  // Packed as the grid keeps them; ids that do not fit a slot are corrupt (the caller's
+  // checks would find them out of range anyway).
+  m.packed.assign(slots_.size(), 0);
+  for (int c = 0; c < size(); ++c) {
+    const std::int32_t* b = &m.slots[static_cast<std::size_t>(c) * (cap_ + 1)];
+    const int n = std::clamp(b[0], 0, cap_);
+    std::uint8_t* o = m.packed.data() + static_cast<std::size_t>(c) * stride_;
+    store(o, n);
+    for (int k = 1; k <= n; ++k) store(o + kSlotBytes * k, b[k] >= 0 && b[k] < kMaxDisks ? b[k] : 0);
+  }
   return m;
 }
 

@@ -2,7 +2,9 @@
 // the largest diameter, each holding a doubly linked list of its disks, so a disk only
 // meets disks of its 3×3 neighbourhood; periodic axes wrap with an image shift.
 #pragma once
+#include <bit>
 #include <cstdint>
+#include <cstring>
 #include <vector>
 
 #include "engine/ed/huge_pages.hpp"
@@ -46,41 +48,65 @@ public:
     if (!py_) sy = 0.0;
   }
 
-  // Membership: each cell stores its disks in a fixed-capacity slot array (count first),
+  // Membership: each cell stores its disks in a fixed-capacity block of slots (count first),
   // so a neighbourhood scan reads one short contiguous block per cell instead of chasing
   // a linked list. The capacity follows from Groemer's packing bound for centres at least
-  // min_diameter apart in a cell (N ≤ 2A/(√3 d²) + P/(2d) + 1).
-  void resize_particles(int n) { cell_.assign(n, -1); }
+  // min_diameter apart in a cell (N ≤ 2A/(√3 d²) + P/(2d) + 1). Slots are 3 bytes: a
+  // block of capacity 4 (one-diameter cells) is 16 bytes, so the three cells of a row of
+  // the 3×3 block mostly share one cache line; with 4-byte slots they span two.
+  static constexpr int kMaxDisks = 1 << 24;  // disk slots a 3-byte slot can name
+  void resize_particles(int n) {
+    check_disks(n);
+    cell_.assign(n, -1);
+  }
   // More disk slots, keeping the present ones (disks entering an open stream, §3.2–3.3).
-  void grow_particles(int n) { cell_.resize(n, -1); }
+  void grow_particles(int n) {
+    check_disks(n);
+    cell_.resize(n, -1);
+  }
   void insert(int i, int c) {
-    std::int32_t* s = &slots_[static_cast<std::size_t>(c) * stride_];
-    if (s[0] >= cap_) overflow(c);
+    std::uint8_t* s = block(c);
+    const int n = load(s);
+    if (n >= cap_) overflow(c);
     cell_[i] = c;
-    s[1 + s[0]++] = i;
+    store(s + kSlotBytes * (n + 1), i);
+    store(s, n + 1);
   }
   // The last member takes i's place. i's place is found in the cell's few slots, on the
   // line that is written anyway, rather than kept per disk: a per-disk place array costs
   // 4 bytes a disk and a cache miss for i's place and another for the last member's.
   void remove(int i) {
-    std::int32_t* s = &slots_[static_cast<std::size_t>(cell_[i]) * stride_];
-    std::int32_t* p = s + 1;
-    while (*p != i) ++p;  // i is a member: the search ends inside the cell
-    *p = s[s[0]--];
+    std::uint8_t* s = block(cell_[i]);
+    const int n = load(s);
+    std::uint8_t* p = s + kSlotBytes;
+    while (load(p) != i) p += kSlotBytes;  // i is a member: the search ends inside the cell
+    store(p, load(s + kSlotBytes * n));
+    store(s, n - 1);
     cell_[i] = -1;
   }
-  int count(int c) const { return slots_[static_cast<std::size_t>(c) * stride_]; }
-  // Cell c's slot block: the count, then the members.
-  const std::int32_t* cell_slots(int c) const { return slots_.data() + static_cast<std::size_t>(c) * stride_; }
-  const std::int32_t* members(int c) const { return &slots_[static_cast<std::size_t>(c) * stride_ + 1]; }
+  // A cell's slot block as a scan reads it: the count, then the members.
+  class Slots {
+  public:
+    Slots() = default;
+    explicit Slots(const std::uint8_t* p) : p_(p) {}
+    int count() const { return load(p_); }
+    int member(int k) const { return load(p_ + kSlotBytes * (k + 1)); }
+    const void* address() const { return p_; }
+
+  private:
+    const std::uint8_t* p_ = nullptr;
+  };
+  Slots cell_slots(int c) const { return Slots(slots_.data() + static_cast<std::size_t>(c) * stride_); }
+  int count(int c) const { return cell_slots(c).count(); }
+  int member(int c, int k) const { return cell_slots(c).member(k); }
   int capacity() const { return cap_; }
   int cell(int i) const { return cell_[i]; }
   // Cache hint (no effect on results): the member slots of the 3×3 block of cells around
   // cell c (three runs of three cells each).
   void prefetch_block(int c) const {
     block_rows(c, [this](int first, int last) {
-      const char* a = reinterpret_cast<const char*>(cell_slots(first));
-      const char* b = reinterpret_cast<const char*>(cell_slots(last) + cap_);
+      const char* a = reinterpret_cast<const char*>(cell_slots(first).address());
+      const char* b = reinterpret_cast<const char*>(cell_slots(last).address()) + stride_ - 1;
       for (; a <= b; a += 64) __builtin_prefetch(a);
       __builtin_prefetch(b);
     });
@@ -106,14 +132,16 @@ public:
       }
     }
   }
-  std::size_t memory_bytes() const { return (slots_.capacity() + cell_.capacity()) * 4; }
+  std::size_t memory_bytes() const { return slots_.capacity() + cell_.capacity() * 4; }
 
-  // ---- checkpoints: the membership arrays verbatim (the order of a cell's members is the
-  // order its neighbourhood is scanned in, which decides ties), and each disk's place in its
-  // cell (derived from the slots, kept in the archive for its checks); the geometry is
-  // rebuilt from the configuration and only compared.
+  // ---- checkpoints: the membership (the order of a cell's members is the order its
+  // neighbourhood is scanned in, which decides ties) as 4-byte arrays — the blocks of
+  // capacity + 1 slots, each disk's cell and each disk's place in its cell (derived, kept
+  // for the archive's checks) —; the geometry is rebuilt from the configuration and only
+  // compared.
   struct Members {
     HugeVector<std::int32_t> slots, cell, pos;
+    HugeVector<std::uint8_t> packed;  // slots as the grid keeps them (read_members fills it)
   };
   void save_members(io::ArchiveWriter& w) const;
   // Reads what save_members wrote for n_disks disk slots; throws grainflow::Error (the
@@ -121,7 +149,7 @@ public:
   // the members agree with the disks' slot states is for the caller to check.
   Members read_members(io::ArchiveReader& r, int n_disks) const;
   void adopt_members(Members&& m) noexcept {
-    slots_.swap(m.slots);
+    slots_.swap(m.packed);
     cell_.swap(m.cell);
   }
 
@@ -140,8 +168,27 @@ private:
   double w_ = 0.0, h_ = 0.0, lx_ = 0.0, ly_ = 0.0;
   bool px_ = false, py_ = false;
   void overflow(int c) const;  // throws: only overlapping disks can overfill a cell
-  int cap_ = 0, stride_ = 1;
-  HugeVector<std::int32_t> slots_, cell_;
+  void check_disks(int n) const;  // throws beyond kMaxDisks
+  static constexpr int kSlotBytes = 3;
+  // A 3-byte slot read as 4 bytes (the last block is followed by slack) and masked.
+  static int load(const std::uint8_t* p) {
+    std::uint32_t v;
+    std::memcpy(&v, p, 4);
+    if constexpr (std::endian::native == std::endian::big) v = __builtin_bswap32(v) >> 8;
+    return static_cast<int>(v & 0xFFFFFFu);
+  }
+  static void store(std::uint8_t* p, int v) {
+    p[0] = static_cast<std::uint8_t>(v);
+    p[1] = static_cast<std::uint8_t>(v >> 8);
+    p[2] = static_cast<std::uint8_t>(v >> 16);
+  }
+  std::uint8_t* block(int c) { return slots_.data() + static_cast<std::size_t>(c) * stride_; }
+  HugeVector<std::int32_t> unpacked_slots() const;
+
+  int cap_ = 0;
+  std::size_t stride_ = 4;  // bytes a cell's block takes: (1 + capacity) slots, a multiple of 4
+  HugeVector<std::uint8_t> slots_;  // the blocks, then 4 bytes of slack
+  HugeVector<std::int32_t> cell_;
 };
 
 }  // namespace grainflow::ed

@@ -76,9 +76,9 @@ private:
     double bt = kInf;
     int be = kNone;
     if (n < nc_) {
-      const std::int32_t* m = grid_->members(n);
-      for (int k = 0, cnt = grid_->count(n); k < cnt; ++k) {
-        const int i = m[k];
+      const CellGrid::Slots m = grid_->cell_slots(n);
+      for (int k = 0, cnt = m.count(); k < cnt; ++k) {
+        const int i = m.member(k);
         const double t = key_[i];
         if (t < bt || (t == bt && i < be)) { bt = t; be = i; }
       }

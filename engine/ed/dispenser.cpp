@@ -102,8 +102,7 @@ void DispenserPiston::recharge(SystemState& s) {
   t_recharge_ = s.now() + strip_ / cfg_.U;
   if (cells_.empty()) cells(s.grid, cells_);
   for (int c : cells_) {
-    const std::int32_t* m = s.grid.members(c);
-    for (int n = 0, cnt = s.grid.count(c); n < cnt; ++n) s.repredict(m[n]);
+    for (int n = 0, cnt = s.grid.count(c); n < cnt; ++n) s.repredict(s.grid.member(c, n));
   }
 }
 

@@ -341,7 +341,7 @@ private:
             double sx = 0.0;
             if (!wrap(cx, g.nx(), g.periodic_x(), g.lx(), sx)) continue;
             const int cc = g.index(cx, cy);
-            around_.insert(around_.end(), g.members(cc), g.members(cc) + g.count(cc));
+            for (int k = 0; k < g.count(cc); ++k) around_.push_back(g.member(cc, k));
           }
         }
       }
@@ -491,18 +491,18 @@ private:
     if (buf.size() < need) buf.resize(need);
     // Local pointers: stores into the candidate list cannot alias them, so the loops
     // below do not reload the grid's fields at every step.
-    const std::int32_t* slot[9];
+    CellGrid::Slots slot[9];
     for (int k = 0; k < nc; ++k) {
       slot[k] = g.cell_slots(cells[k]);
-      __builtin_prefetch(slot[k]);
+      __builtin_prefetch(slot[k].address());
     }
     const Disk* __restrict disk = s_.disk.data();
     Candidate* __restrict cand = buf.data();
     int n = 0;
     for (int k = 0; k < nc; ++k) {
-      const std::int32_t* s = slot[k];
-      for (int q = 1, end = s[0] + 1; q < end; ++q) {
-        const int j = s[q];
+      const CellGrid::Slots s = slot[k];
+      for (int q = 0, end = s.count(); q < end; ++q) {
+        const int j = s.member(q);
         __builtin_prefetch(disk + j);
         cand[n] = Candidate{j, k};
         n += (j != i);
@@ -676,7 +676,7 @@ private:
     Party& b = party_[1];
     block(g.cell(i), a.block);
     block(g.cell(j), b.block);
-    for (int k = 0; k < b.block.nc; ++k) __builtin_prefetch(g.cell_slots(b.block.cells[k]));
+    for (int k = 0; k < b.block.nc; ++k) __builtin_prefetch(g.cell_slots(b.block.cells[k]).address());
     a.n = gather(i, a.block.cells, a.block.nc, a.cand);
     b.n = gather(j, b.block.cells, b.block.nc, b.cand);
     __builtin_prefetch(&s_.event[j], 1);  // written by predict_parties

@@ -228,9 +228,8 @@ std::vector<int> Simulation::cell_order() const {
   std::vector<int> order;
   order.reserve(static_cast<std::size_t>(s_.count()));
   for (int c = 0; c < s_.grid.size(); ++c) {
-    const std::int32_t* m = s_.grid.members(c);
     const std::size_t first = order.size();
-    order.insert(order.end(), m, m + s_.grid.count(c));
+    for (int k = 0; k < s_.grid.count(c); ++k) order.push_back(s_.grid.member(c, k));
     std::sort(order.begin() + static_cast<std::ptrdiff_t>(first), order.end());
   }
   return order;
@@ -347,7 +346,7 @@ double Simulation::min_gap() const {
         if (cy >= g.ny()) { if (!g.periodic_y()) continue; cy -= g.ny(); sy = g.ly(); }
         const int cc = g.index(cx, cy);
         for (int k = 0; k < g.count(cc); ++k) {
-          const int j = g.members(cc)[k];
+          const int j = g.member(cc, k);
           if (j <= i) continue;
           const Vec2 pj = s_.position_now(j) + Vec2{sx, sy};
           gap = std::min(gap, (pi - pj).norm() - s_.body[i].r - s_.body[j].r);

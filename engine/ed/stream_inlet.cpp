@@ -43,9 +43,8 @@ bool StreamInlet::spot_is_free(const SystemState& s, double x, double y) const {
   const int c = g.cell_of_point(x, y);
   bool free = true;
   g.for_neighbour_cells(c, [&](int cc) {
-    const std::int32_t* m = g.members(cc);
     for (int k = 0; k < g.count(cc) && free; ++k) {
-      const int j = m[k];
+      const int j = g.member(cc, k);
       const Vec2 p = s.position_now(j);
       double dx = p.x() - x, dy = p.y() - y;
       if (g.periodic_x()) dx -= g.lx() * std::round(dx / g.lx());

@@ -144,9 +144,10 @@ int Thermostat::random_partner(const SystemState& s, int i) {
   const int c = g.cell(i);
   partners_.clear();
   g.for_neighbour_cells(c, [&](int cc) {
-    const std::int32_t* m = g.members(cc);
-    for (int k = 0, n = g.count(cc); k < n; ++k)
-      if (m[k] != i && !s.frozen(m[k])) partners_.push_back(m[k]);
+    for (int k = 0, n = g.count(cc); k < n; ++k) {
+      const int j = g.member(cc, k);
+      if (j != i && !s.frozen(j)) partners_.push_back(j);
+    }
   });
   if (partners_.empty()) return -1;
   return partners_[static_cast<std::size_t>(rng_.below(partners_.size()))];
