@@ -34,8 +34,10 @@ public:
   explicit BucketCalendar(double events_per_bucket = 2.0, double span = 8.0, int fine_per_coarse = 512)
       : per_bucket_(events_per_bucket), span_(span), f_(fine_per_coarse) {}
 
-  void reset(CalendarKeys key, const CellGrid* /*grid*/, int n_disks, int n_timers) {
+  void reset(CalendarKeys key, const CellGrid* grid, int n_disks, int n_timers) {
     key_ = key;
+    grid_ = grid;
+    nd_ = n_disks;
     ne_ = n_disks + n_timers;
     const std::int64_t want = std::max<std::int64_t>(64, static_cast<std::int64_t>(span_ * ne_ / per_bucket_));
     nc_ = static_cast<std::int32_t>((want + f_ - 1) / f_);
@@ -145,7 +147,9 @@ private:
   // Calls f(e) for every id bucket `id` holds (stale copies included), then empties it
   // and returns its chunks to the pool. Each chunk's entries (their where_ and key, which
   // f reads: a miss each, at random) are prefetched together before f sees them.
-  template <class F>
+  // hint_cells: also fetch each disk's cell entry (the bucket goes to the heap: its events
+  // come next, and the loop starts each by reading the disk's cell).
+  template <bool hint_cells = false, class F>
   void drain(std::int32_t id, F&& f) {
     const Bucket b = bucket_[static_cast<std::size_t>(id)];
     bucket_[static_cast<std::size_t>(id)] = Bucket{};
@@ -158,6 +162,8 @@ private:
       for (int q = 0; q < n; ++q) {
         __builtin_prefetch(&where_[pool_[ci].ids[q]]);
         __builtin_prefetch(key_.at(pool_[ci].ids[q]));
+        if constexpr (hint_cells)
+          if (grid_ && pool_[ci].ids[q] < nd_) grid_->prefetch_cell(pool_[ci].ids[q]);
       }
       for (int q = 0; q < n; ++q) f(pool_[ci].ids[q]);
       pool_[ci].next = free_;
@@ -207,7 +213,7 @@ private:
   }
   // Fine bucket s comes up: its live entries go to the heap.
   void dump(std::int32_t s) {
-    drain(s, [&](std::int32_t e) {
+    drain<true>(s, [&](std::int32_t e) {
       if (where_[e] != s) return;  // stale copy (or a second copy, already taken)
       --n_listed_;
       heap_push(e);
@@ -285,7 +291,8 @@ private:
   double per_bucket_, span_;
   std::int32_t f_;  // fine buckets per coarse bucket
   CalendarKeys key_;
-  int ne_ = 0;
+  const CellGrid* grid_ = nullptr;  // for cache hints only
+  int ne_ = 0, nd_ = 0;
   std::int32_t nc_ = 0, kcur_ = 0;  // coarse buckets in the window; the one being processed
   std::int64_t nb_ = 0, cur_ = 0, w0_ = 0, n_listed_ = 0;
   double dt_ = 0.0, inv_dt_ = 0.0;

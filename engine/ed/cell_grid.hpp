@@ -101,6 +101,8 @@ public:
   int member(int c, int k) const { return cell_slots(c).member(k); }
   int capacity() const { return cap_; }
   int cell(int i) const { return cell_[i]; }
+  // Cache hint (no effect on results): disk i's cell entry is about to be read.
+  void prefetch_cell(int i) const { __builtin_prefetch(&cell_[i]); }
   // Cache hint (no effect on results): the member slots of the 3×3 block of cells around
   // cell c (three runs of three cells each).
   void prefetch_block(int c) const {

@@ -132,6 +132,10 @@ private:
       crossing(e);
     } else if (s_.event[e].kind == EventKind::Pair) {
       const int j = s_.event[e].partner;
+      // The partner's record and cell entry, which a collision reads first, are fetched
+      // while its counter is checked.
+      __builtin_prefetch(&s_.disk[j]);
+      s_.grid.prefetch_cell(j);
       if (s_.counter[j] != s_.event[e].partner_count) {
         ++s_.stats.stale;
         predict_full(e);
