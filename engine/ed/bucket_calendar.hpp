@@ -14,11 +14,14 @@
 // (key, entry), whatever the layout of the buckets.
 #pragma once
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <string>
 #include <vector>
 
+#include "engine/core/error.hpp"
 #include "engine/ed/calendar_keys.hpp"
 #include "engine/ed/cell_grid.hpp"
 #include "engine/ed/huge_pages.hpp"
@@ -30,9 +33,15 @@ public:
   static constexpr const char* kName = "bucket";
 
   // Tuning: expected events per fine bucket, window span in mean event intervals of an
-  // entry, and fine buckets per coarse bucket.
+  // entry, and fine buckets per coarse bucket, a power of two (a bucket's coarse bucket
+  // and place in it are then a shift and a mask, not a 64-bit division, at every insert).
   explicit BucketCalendar(double events_per_bucket = 2.0, double span = 8.0, int fine_per_coarse = 512)
-      : per_bucket_(events_per_bucket), span_(span), f_(fine_per_coarse) {}
+      : per_bucket_(events_per_bucket), span_(span), f_(fine_per_coarse), f_shift_(std::countr_zero(
+                                                                              static_cast<unsigned>(fine_per_coarse))) {
+    if (fine_per_coarse < 1 || !std::has_single_bit(static_cast<unsigned>(fine_per_coarse)))
+      throw Error("ed: bucket calendar: fine buckets per coarse bucket must be a power of two, not " +
+                  std::to_string(fine_per_coarse));
+  }
 
   void reset(CalendarKeys key, const CellGrid* grid, int n_disks, int n_timers) {
     key_ = key;
@@ -84,9 +93,9 @@ public:
         rebuild();
         continue;
       }
-      const std::int32_t s = static_cast<std::int32_t>(rel % f_);
+      const std::int32_t s = fine_of(rel);
       if (s == 0) {
-        kcur_ = static_cast<std::int32_t>(rel / f_);
+        kcur_ = coarse_of(rel);
         spread(kcur_);
       }
       dump(s);
@@ -107,6 +116,9 @@ private:
   static constexpr std::int32_t kParked = -1;
   static constexpr std::int32_t kHeap0 = -2;
   std::int32_t overflow_id() const { return f_ + nc_; }
+  // Bucket rel ≥ 0 of the window: its coarse bucket, and its place in it.
+  std::int32_t coarse_of(std::int64_t rel) const { return static_cast<std::int32_t>(rel >> f_shift_); }
+  std::int32_t fine_of(std::int64_t rel) const { return static_cast<std::int32_t>(rel & (f_ - 1)); }
   int heap_pos(int e) const { return kHeap0 - where_[e]; }
   void set_heap_pos(int e, int p) { where_[e] = kHeap0 - p; }
 
@@ -178,8 +190,8 @@ private:
     if (b <= cur_) { heap_push(e); return; }
     const std::int64_t rel = b - w0_;
     if (rel >= nb_) { list_push(overflow_id(), e); return; }
-    const auto k = static_cast<std::int32_t>(rel / f_);
-    list_push(k == kcur_ ? static_cast<std::int32_t>(rel % f_) : f_ + k, e);
+    const std::int32_t k = coarse_of(rel);
+    list_push(k == kcur_ ? fine_of(rel) : f_ + k, e);
   }
   // Takes e out: from the heap at once, from a bucket lazily (its copy there turns stale).
   void detach(int e) {
@@ -290,6 +302,7 @@ private:
 
   double per_bucket_, span_;
   std::int32_t f_;  // fine buckets per coarse bucket
+  int f_shift_;     // log2 f_
   CalendarKeys key_;
   const CellGrid* grid_ = nullptr;  // for cache hints only
   int ne_ = 0, nd_ = 0;

@@ -80,7 +80,13 @@ void check(const Tuning& tn, int n, int pops, std::uint64_t seed) {
 TEST(BucketCalendar, PopsTheLeastKeyWithTheDefaultTuning) { check({2.0, 8.0, 512}, 3000, 60000, 1); }
 
 TEST(BucketCalendar, PopsTheLeastKeyThroughSmallCoarseBuckets) {
-  for (int f : {1, 2, 5, 16}) check({2.0, 8.0, f}, 2000, 40000, 10 + f);
+  for (int f : {1, 2, 4, 16}) check({2.0, 8.0, f}, 2000, 40000, 10 + f);
+}
+
+TEST(BucketCalendar, RefusesCoarseBucketsOfOtherThanPowersOfTwo) {
+  EXPECT_THROW(ed::BucketCalendar(2.0, 8.0, 5), grainflow::Error);
+  EXPECT_THROW(ed::BucketCalendar(2.0, 8.0, 0), grainflow::Error);
+  EXPECT_NO_THROW(ed::BucketCalendar(2.0, 8.0, 1));
 }
 
 TEST(BucketCalendar, PopsTheLeastKeyWithNarrowAndCrowdedWindows) {
