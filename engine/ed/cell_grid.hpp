@@ -1,5 +1,5 @@
 // The cell map of the ED engine (seed 003 §2.2): a regular grid of cells no smaller than
-// the largest diameter, each holding a doubly linked list of its disks, so a disk only
+// the largest diameter, each holding its disks in a short block of slots, so a disk only
 // meets disks of its 3×3 neighbourhood; periodic axes wrap with an image shift.
 #pragma once
 #include <bit>
