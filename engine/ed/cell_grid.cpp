@@ -46,6 +46,20 @@ HugeVector<std::int32_t> CellGrid::unpacked_slots() const {
   return out;
 }
 
+HugeVector<std::uint8_t> CellGrid::packed_slots(const HugeVector<std::int32_t>& unpacked) const {
+  // Counts and ids out of range can only come from a corrupt archive, which the caller's
+  // checks of the 4-byte arrays refuse; they are clamped here only to stay inside the blocks.
+  HugeVector<std::uint8_t> out(slots_.size(), 0);
+  for (int c = 0; c < size(); ++c) {
+    const std::int32_t* b = &unpacked[static_cast<std::size_t>(c) * (cap_ + 1)];
+    const int n = std::clamp(b[0], 0, cap_);
+    std::uint8_t* o = out.data() + static_cast<std::size_t>(c) * stride_;
+    store(o, n);
+    for (int k = 1; k <= n; ++k) store(o + kSlotBytes * k, b[k] >= 0 && b[k] < kMaxDisks ? b[k] : 0);
+  }
+  return out;
+}
+
 void CellGrid::overflow(int c) const {
   throw Error(fmt::format("ed: cell ({}, {}) would hold more than {} disks, which only overlapping "
                           "disks can do; check the initial positions", ix(c), iy(c), cap_));
@@ -61,11 +75,12 @@ void CellGrid::save_members(io::ArchiveWriter& w) const {
   w.pod(static_cast<std::int32_t>(nx_));
   w.pod(static_cast<std::int32_t>(ny_));
   w.pod(static_cast<std::int32_t>(cap_));
-  w.array(unpacked_slots());
+  const HugeVector<std::int32_t> slots = unpacked_slots();
+  w.array(slots);
   w.array(cell_);
   HugeVector<std::int32_t> pos(cell_.size(), -1);
-  for (int c = 0; c < size(); ++c)
-    for (int k = 0; k < count(c); ++k) pos[static_cast<std::size_t>(member(c, k))] = k;
+  for (std::size_t b = 0; b < slots.size(); b += static_cast<std::size_t>(cap_ + 1))
+    for (int k = 0; k < slots[b]; ++k) pos[static_cast<std::size_t>(slots[b + 1 + k])] = k;
   w.array(pos);
 }
 
@@ -79,16 +94,7 @@ CellGrid::Members CellGrid::read_members(io::ArchiveReader& r, int n_disks) cons
   r.array_of(m.slots, static_cast<std::size_t>(size()) * (cap_ + 1), "the cell slot blocks");
   r.array_of(m.cell, static_cast<std::size_t>(n_disks), "the disks' cells");
   r.array_of(m.pos, static_cast<std::size_t>(n_disks), "the disks' places in their cells");
-  // Packed as the grid keeps them; ids that do not fit a slot are corrupt (the caller's
-  // checks would find them out of range anyway).
-  m.packed.assign(slots_.size(), 0);
-  for (int c = 0; c < size(); ++c) {
-    const std::int32_t* b = &m.slots[static_cast<std::size_t>(c) * (cap_ + 1)];
-    const int n = std::clamp(b[0], 0, cap_);
-    std::uint8_t* o = m.packed.data() + static_cast<std::size_t>(c) * stride_;
-    store(o, n);
-    for (int k = 1; k <= n; ++k) store(o + kSlotBytes * k, b[k] >= 0 && b[k] < kMaxDisks ? b[k] : 0);
-  }
+  m.packed = packed_slots(m.slots);
   return m;
 }
 

@@ -176,7 +176,7 @@ private:
   static int load(const std::uint8_t* p) {
     std::uint32_t v;
     std::memcpy(&v, p, 4);
-    if constexpr (std::endian::native == std::endian::big) v = __builtin_bswap32(v) >> 8;
+    if constexpr (std::endian::native == std::endian::big) v = __builtin_bswap32(v);
     return static_cast<int>(v & 0xFFFFFFu);
   }
   static void store(std::uint8_t* p, int v) {
@@ -185,7 +185,9 @@ private:
     p[2] = static_cast<std::uint8_t>(v >> 16);
   }
   std::uint8_t* block(int c) { return slots_.data() + static_cast<std::size_t>(c) * stride_; }
+  // The blocks as checkpoints keep them (capacity + 1 four-byte slots a cell), and back.
   HugeVector<std::int32_t> unpacked_slots() const;
+  HugeVector<std::uint8_t> packed_slots(const HugeVector<std::int32_t>& unpacked) const;
 
   int cap_ = 0;
   std::size_t stride_ = 4;  // bytes a cell's block takes: (1 + capacity) slots, a multiple of 4
