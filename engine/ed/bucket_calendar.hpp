@@ -104,8 +104,10 @@ public:
   }
 
   double bucket_width() const { return dt_; }
+  // The chunks counted are those ever handed out (the pool's high-water mark), not the
+  // vector's capacity: its doubling reserve, up to as much again, is never touched.
   std::size_t memory_bytes() const {
-    return (heap_.capacity() + scratch_.capacity() + where_.capacity()) * 4 + pool_.capacity() * sizeof(Chunk) +
+    return (heap_.capacity() + scratch_.capacity() + where_.capacity()) * 4 + pool_.size() * sizeof(Chunk) +
            bucket_.capacity() * sizeof(Bucket);
   }
 
