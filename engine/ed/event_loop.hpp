@@ -223,11 +223,12 @@ private:
     } else {
       // The best event in the old neighbourhood still holds; only the newly adjacent row of
       // cells and the agents of the new cell can offer an earlier one (cells ≥ σ, §2.2).
-      const double held = ev.pair_time - s_.now();
-      double best = held;
+      // Its time is not in the record (NextEvent): held_time finds it.
+      const Disk di = now_record(i);
+      const double ri = s_.radius(i);
       int who = ev.partner;
       EventKind kind = ev.kind;
-      const Disk di = now_record(i);
+      double best = held_time(i, di, ri, to, who, kind);
       int cells[3];
       double shx[3], shy[3];
       int nc = 0;
@@ -258,12 +259,29 @@ private:
             }
           }
       }
-      scan_cells(i, di, s_.radius(i), cells, shx, shy, nc, best, who, kind);
+      scan_cells(i, di, ri, cells, shx, shy, nc, best, who, kind);
       scan_agents(i, to, best, who, kind);
-      if (best < held) store_pair(i, best, who, kind);  // else keep the held event bit-exact
-      schedule(i);
+      schedule(i, best, who, kind);
     }
     cal_.update(i);
+  }
+
+  // The time from now to disk i's held pair or agent event (`kind` with `who`; disk i at
+  // di now, radius ri, in cell c), or kNever (then kind becomes None). A pair's is computed
+  // again from the two records (a grazing pair that round-off now finds to miss is a miss);
+  // an agent's was kept (SystemState::agent_time).
+  double held_time(int i, const Disk& di, double ri, int c, int& who, EventKind& kind) const {
+    if (kind == EventKind::Agent) return s_.agent_time[i] - s_.now();
+    if (kind != EventKind::Pair) return kNever;
+    const Candidate partner{who, 0};
+    double shx, shy;
+    s_.grid.image_shift(c, s_.grid.cell(who), shx, shy);
+    double best = kNever;
+    int found = -1;
+    EventKind what = EventKind::None;
+    evaluate(di, ri, &partner, 1, &shx, &shy, best, found, what);
+    kind = what;
+    return best;
   }
 
   void agent_event(int i, int a) {
@@ -608,14 +626,6 @@ private:
     }
   }
 
-  void store_pair(int i, double best, int who, EventKind kind) {
-    NextEvent& ev = s_.event[i];
-    ev.pair_time = s_.now() + best;
-    ev.partner = who;
-    ev.kind = best == kNever ? EventKind::None : kind;
-    ev.partner_count = kind == EventKind::Pair ? s_.counter[who] : 0u;
-  }
-
   // The 3×3 block of cells around cell `centre` (§2.2), in scan order, with image shifts.
   struct Block {
     int centre = -1;
@@ -665,8 +675,7 @@ private:
     EventKind kind = EventKind::None;
     evaluate(now_record(i), s_.radius(i), cand, n, b.shx, b.shy, best, who, kind);
     scan_agents(i, b.centre, best, who, kind);
-    store_pair(i, best, who, kind);
-    schedule(i);
+    schedule(i, best, who, kind);
   }
   // predict_full(i), cal_.update(i), predict_full(j), cal_.update(j) — the two parties of a
   // collision — in two halves: list_parties lists the candidates of both neighbourhoods
@@ -693,11 +702,12 @@ private:
     cal_.update(j);
   }
 
-  // Sets disk i's calendar key to the earlier of its pair event (already stored) and the
-  // next crossing of a wall of its own cell (the cell index is authoritative; the position
-  // may sit an ulp outside after round-off, hence the clamp at zero). A tie goes to the
+  // Stores disk i's next event: its pair (or agent) event in `best` from now, with `who`
+  // (kind None when best is kNever), or the next crossing of a wall of its own cell, the
+  // key being the earlier of the two (the cell index is authoritative; the position may
+  // sit an ulp outside after round-off, hence the clamp at zero). A tie goes to the
   // crossing.
-  void schedule(int i) {
+  void schedule(int i, double best, int who, EventKind kind) {
     const CellGrid& g = s_.grid;
     const Disk d = now_record(i);
     const int c = g.cell(i);
@@ -718,11 +728,19 @@ private:
     }
     const bool use_x = tx <= ty;
     const double t = std::max(0.0, use_x ? tx : ty);
-    const double cross_time = s_.now() + t;
-    NextEvent& ev = s_.event[i];
+    const double pair_time = s_.now() + best, cross_time = s_.now() + t;
+    if (best == kNever) kind = EventKind::None;
+    // Built in registers and stored whole: setting the bit fields in place would first
+    // read the old record, a cache miss.
+    NextEvent ev;
+    ev.key = std::min(pair_time, cross_time);
+    ev.partner_count = kind == EventKind::Pair ? s_.counter[who] : 0u;
+    ev.partner = kind == EventKind::None ? 0u : static_cast<std::uint32_t>(who);
+    ev.kind = kind;
     ev.cross_dir = use_x ? dx : dy;
-    ev.crossing = cross_time <= ev.pair_time;
-    ev.key = std::min(ev.pair_time, cross_time);
+    ev.crossing = cross_time <= pair_time;
+    s_.event[i] = ev;
+    if (kind == EventKind::Agent) s_.agent_time[i] = pair_time;
   }
 
   // Disk i's record with its position now instead of at the epoch.

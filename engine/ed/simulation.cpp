@@ -362,6 +362,7 @@ std::vector<Simulation::MemoryPart> Simulation::memory_parts() const {
   return {{"disk records", s_.disk.capacity() * sizeof(Disk), true},
           {"bodies", s_.body.capacity() * sizeof(DiskBody), bodies_hot},
           {"event records", s_.event.capacity() * sizeof(NextEvent), true},
+          {"agent event times", s_.agent_time.capacity() * sizeof(double), !s_.agents.empty()},
           {"counters", s_.counter.capacity() * sizeof(std::uint32_t), true},
           {"slot states", s_.slot.capacity() * sizeof(SlotState), true},
           {"cell map", s_.grid.memory_bytes(), true},

@@ -132,6 +132,7 @@ void SystemState::grow() {
   // Event records exist once the loop has started; the timers' records follow the disk slots.
   if (events_ready_) {
     event.insert(event.begin() + n, static_cast<std::size_t>(n1 - n), NextEvent{});
+    agent_time.resize(n1, kNever);
     grown_ = true;
   }
   for (int i = n1 - 1; i >= n; --i) free_.push_back(i);  // lowest id first
@@ -232,10 +233,11 @@ void SystemState::index_agents() {
 
 namespace {
 
-// NextEvent as written: its 5 bytes of padding made explicit and zero, so that the same
-// records always give the same bytes.
+// NextEvent as written, with the agent event's time (SystemState::agent_time; kNever when
+// the event is not an agent's): its bit fields as whole bytes and its padding explicit and
+// zero, so that the same records always give the same bytes whatever the compiler's layout.
 struct PackedEvent {
-  double key, pair_time;
+  double key, agent_time;
   std::int32_t partner;
   std::uint32_t partner_count;
   std::uint8_t kind, cross_dir, crossing, pad[5];
@@ -292,8 +294,8 @@ void SystemState::save(io::ArchiveWriter& w) const {
     PackedEvent& p = ev[e];
     p = PackedEvent{};
     p.key = x.key;
-    p.pair_time = x.pair_time;
-    p.partner = x.partner;
+    p.agent_time = e < agent_time.size() && x.kind == EventKind::Agent ? agent_time[e] : kNever;
+    p.partner = static_cast<std::int32_t>(x.partner);
     p.partner_count = x.partner_count;
     p.kind = static_cast<std::uint8_t>(x.kind);
     p.cross_dir = x.cross_dir;
@@ -415,6 +417,7 @@ SystemState::Saved SystemState::read_saved(io::ArchiveReader& r) const {
     if (x.id < 0 || x.id >= ni || x.cell < 0 || x.cell >= grid.size())
       r.corrupt(fmt::format("a pending removal names slot {} in cell {}", x.id, x.cell));
   s.event.resize(ev.size());
+  s.agent_time.assign(n, kNever);
   for (std::size_t e = 0; e < ev.size(); ++e) {
     const PackedEvent& p = ev[e];
     if (p.kind > 2 || p.cross_dir > 3 || p.crossing > 1)
@@ -428,8 +431,8 @@ SystemState::Saved SystemState::read_saved(io::ArchiveReader& r) const {
                             agents.size()));
     NextEvent& x = s.event[e];
     x.key = p.key;
-    x.pair_time = p.pair_time;
-    x.partner = p.partner;
+    if (e < n && kind == EventKind::Agent) s.agent_time[e] = p.agent_time;
+    x.partner = kind == EventKind::None ? 0u : static_cast<std::uint32_t>(p.partner);
     x.partner_count = p.partner_count;
     x.kind = kind;
     x.cross_dir = p.cross_dir;
@@ -485,6 +488,7 @@ void SystemState::restore(Saved&& s) noexcept {
   counter.swap(s.counter);
   slot.swap(s.slot);
   event.swap(s.event);
+  agent_time.swap(s.agent_time);
   free_.swap(s.free);
   touched_.swap(s.touched);
   added_.swap(s.added);

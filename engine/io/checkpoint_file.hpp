@@ -20,7 +20,8 @@ namespace grainflow::io {
 // 2: the DEM state carries the contact virial of its forces (the pressure tensor).
 // 3: the ED disks are stored at a common epoch, with their bodies (radius, mass, spin)
 //    apart.
-inline constexpr std::uint32_t kCheckpointVersion = 3;
+// 4: the ED event records no longer hold the pair event's time when a crossing comes first.
+inline constexpr std::uint32_t kCheckpointVersion = 4;
 
 struct CheckpointInfo {
   std::string engine;                  // "ed", "dem"

@@ -235,7 +235,7 @@ CooledChannel run_cooled(bool local_kT) {
   auto stream = ed::add_dense_stream(sim, dc);
   const double n_stream = 0.65 / (std::numbers::pi * 0.25);
   CooledChannel out{};
-  double kT = 0;
+  double kT = 0, kT_dispenser = 0, kT_filter = 0;
   int samples = 0;
   for (double t = 500; t <= 900; t += 20) {
     sim.run_until(t);
@@ -245,6 +245,10 @@ CooledChannel run_cooled(bool local_kT) {
     out.vx_in += in.vx;
     out.vx_out += o.vx;
     kT += region_kT(sim, 5, 82);
+    // The boundaries' temperatures are running means over their last arrivals: taken at
+    // the same times as the gas's, not once at the end, where a few arrivals decide.
+    kT_dispenser += stream.piston->kT();
+    kT_filter += stream.filter->kT();
     ++samples;
   }
   out.n_in /= samples;
@@ -252,8 +256,8 @@ CooledChannel run_cooled(bool local_kT) {
   out.vx_in /= samples;
   out.vx_out /= samples;
   out.kT_gas = kT / samples;
-  out.kT_dispenser = stream.piston->kT();
-  out.kT_filter = stream.filter->kT();
+  out.kT_dispenser = kT_dispenser / samples;
+  out.kT_filter = kT_filter / samples;
   std::printf("cooled stream, local_kT = %d: n/n_stream inlet %.3f outlet %.3f, <vx> inlet %.4f outlet %.4f; kT gas "
               "%.2e, dispenser %.2e, filter %.2e; removed overlapping %llu\n",
               int(local_kT), out.n_in, out.n_out, out.vx_in, out.vx_out, out.kT_gas, out.kT_dispenser, out.kT_filter,
@@ -265,8 +269,8 @@ TEST(DenseStream, CooledStreamJamsAtFixedTemperatureBoundaries) {
   const CooledChannel fixed = run_cooled(false);
   // The jam: the outlet third denser than the inlet third by more than 20 %.
   EXPECT_GT(fixed.n_out - fixed.n_in, 0.2);
-  EXPECT_EQ(fixed.kT_dispenser, 0.02);
-  EXPECT_EQ(fixed.kT_filter, 0.02);
+  EXPECT_DOUBLE_EQ(fixed.kT_dispenser, 0.02);  // a mean of 0.02s, to round-off
+  EXPECT_DOUBLE_EQ(fixed.kT_filter, 0.02);
 }
 
 TEST(DenseStream, LocalTemperatureBoundariesKeepACooledStreamUniform) {
@@ -277,10 +281,13 @@ TEST(DenseStream, LocalTemperatureBoundariesKeepACooledStreamUniform) {
   EXPECT_NEAR(local.n_out, 1.0, 0.1);
   EXPECT_NEAR(local.vx_in, 0.1, 0.01);
   EXPECT_NEAR(local.vx_out, 0.1, 0.01);
-  // Both boundaries work at the cooled stream's temperature (within a factor 2), far below 0.02.
+  // Both boundaries work at the cooled stream's temperature, 10^3 below the fixed 0.02: their
+  // means within a factor 10 of the gas's. (Over 12 seed pairs from 21/9 on, the ratios
+  // spread over 0.4–4.2 at the dispenser and 0.1–1.1 at the filter; read once, at the end,
+  // over 0.1–3.5: a factor 2 held for the first seed pair only.)
   EXPECT_LT(local.kT_gas, 0.002);
-  EXPECT_NEAR(std::log(local.kT_dispenser / local.kT_gas), 0.0, std::log(2.0));
-  EXPECT_NEAR(std::log(local.kT_filter / local.kT_gas), 0.0, std::log(2.0));
+  EXPECT_NEAR(std::log(local.kT_dispenser / local.kT_gas), 0.0, std::log(10.0));
+  EXPECT_NEAR(std::log(local.kT_filter / local.kT_gas), 0.0, std::log(10.0));
 }
 
 TEST(Reorder, NextCollisionsAreTheSameUnderAnyNumbering) {
