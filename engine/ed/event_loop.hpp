@@ -12,6 +12,7 @@
 #include <limits>
 #include <vector>
 
+#include "engine/ed/scan_kernel.hpp"
 #include "engine/ed/system_state.hpp"
 
 namespace grainflow::ed {
@@ -111,10 +112,7 @@ public:
   const char* calendar_name() const override { return Calendar::kName; }
 
 private:
-  struct Candidate {
-    int j;  // disk
-    int k;  // its cell's place in the scanned list (image shift shx[k], shy[k])
-  };
+  using Candidate = ScanCandidate;
 
   void process(int e) {
     ++s_.stats.events;
@@ -229,8 +227,8 @@ private:
       int who = ev.partner;
       EventKind kind = ev.kind;
       double best = held_time(i, di, ri, to, who, kind);
-      int cells[3];
-      double shx[3], shy[3];
+      int cells[3] = {};
+      double shx[3] = {}, shy[3] = {};
       int nc = 0;
       if (dir < 2) {
         int cx = ix + (dir == 0 ? 1 : -1);
@@ -273,13 +271,13 @@ private:
   double held_time(int i, const Disk& di, double ri, int c, int& who, EventKind& kind) const {
     if (kind == EventKind::Agent) return s_.agent_time[i] - s_.now();
     if (kind != EventKind::Pair) return kNever;
-    const Candidate partner{who, 0};
+    const Candidate partner[1 + kScanPad] = {{who, 0}, {i, 0}, {i, 0}, {i, 0}};
     double shx, shy;
     s_.grid.image_shift(c, s_.grid.cell(who), shx, shy);
     double best = kNever;
     int found = -1;
     EventKind what = EventKind::None;
-    evaluate(di, ri, &partner, 1, &shx, &shy, best, found, what);
+    evaluate(di, ri, partner, 1, &shx, &shy, shx != 0.0 || shy != 0.0, best, found, what);
     kind = what;
     return best;
   }
@@ -503,13 +501,15 @@ private:
   void scan_cells(int i, const Disk& di, double ri, const int* cells, const double* shx, const double* shy, int nc,
                   double& best_out, int& who_out, EventKind& kind_out) {
     const int n = gather(i, cells, nc, cand_);
-    evaluate(di, ri, cand_.data(), n, shx, shy, best_out, who_out, kind_out);
+    bool shifted = false;
+    for (int k = 0; k < nc; ++k) shifted |= shx[k] != 0.0 || shy[k] != 0.0;
+    evaluate(di, ri, cand_.data(), n, shx, shy, shifted, best_out, who_out, kind_out);
   }
   // The first half of a scan: disk i's candidates from cells[0..nc) into buf, each one's
-  // record fetched as it is listed; returns their number.
+  // record fetched as it is listed, then the padding (kScanPad); returns their number.
   int gather(int i, const int* cells, int nc, std::vector<Candidate>& buf) {
     const CellGrid& g = s_.grid;
-    const std::size_t need = static_cast<std::size_t>(nc) * static_cast<std::size_t>(g.capacity());
+    const std::size_t need = static_cast<std::size_t>(nc) * static_cast<std::size_t>(g.capacity()) + kScanPad;
     if (buf.size() < need) buf.resize(need);
     // Local pointers: stores into the candidate list cannot alias them, so the loops
     // below do not reload the grid's fields at every step.
@@ -530,12 +530,15 @@ private:
         n += (j != i);
       }
     }
+    for (int p = 0; p < kScanPad; ++p) cand[n + p] = Candidate{i, 0};
     return n;
   }
   // The second half: the earliest pair event of a disk at di now (radius ri) with the
-  // candidates cand[0..n) (their cells' image shifts in shx, shy), if earlier than best_out.
+  // candidates cand[0..n) (their cells' image shifts in shx, shy, all zero unless
+  // `shifted`; the padding follows), if earlier than best_out.
   void evaluate(const Disk& di, double ri, const Candidate* __restrict cand, int n, const double* shx,
-                const double* shy, double& best_out, int& who_out, EventKind& kind_out) const {
+                const double* shy, [[maybe_unused]] bool shifted, double& best_out, int& who_out,
+                EventKind& kind_out) const {
     // Locals, so that the running minimum stays in registers (the references could alias
     // the stores below).
     double best = best_out;
@@ -551,6 +554,16 @@ private:
     const bool mixed = !(ur > 0.0);
     const DiskBody* __restrict body = s_.body.data();
     int k = 0;
+#if defined(GRAINFLOW_ED_AVX2)
+    // Four candidates per step where the CPU has AVX2 (the same bits: scan_kernel.hpp).
+    if (scan_uses_avx2()) {
+      const double before = best;
+      earliest_pair_avx2(ScanQuery{disk, body, shx, shy, di, ri, ur, since, mixed, shifted}, cand, n, best_out,
+                         who_out);
+      if (best_out < before) kind_out = EventKind::Pair;
+      return;
+    }
+#endif
 #if defined(__SSE2__)
     const __m128d dt = _mm_set1_pd(since), zero = _mm_setzero_pd(), never = _mm_set1_pd(kNever);
     const __m128d sign = _mm_set1_pd(-0.0);
@@ -632,12 +645,14 @@ private:
     int cells[9];
     double shx[9], shy[9];
     int nc = 0;
+    bool shifted = false;  // some shift is not zero (a periodic edge)
   };
   void block(int c, Block& b) const {
     const CellGrid& g = s_.grid;
     const int ix = g.ix(c), iy = g.iy(c);
     b.centre = c;
     b.nc = 0;
+    b.shifted = false;
     if (ix > 0 && ix + 1 < g.nx() && iy > 0 && iy + 1 < g.ny()) {
       // Away from the edges (nearly always): the 3×3 block in the same order, no images.
       for (int ky = -1; ky <= 1; ++ky)
@@ -657,6 +672,7 @@ private:
           b.cells[b.nc] = g.index(cx, cy);
           b.shx[b.nc] = sx;
           b.shy[b.nc++] = sy;
+          b.shifted |= sx != 0.0 || sy != 0.0;
         }
       }
     }
@@ -673,7 +689,7 @@ private:
     double best = kNever;
     int who = -1;
     EventKind kind = EventKind::None;
-    evaluate(now_record(i), s_.radius(i), cand, n, b.shx, b.shy, best, who, kind);
+    evaluate(now_record(i), s_.radius(i), cand, n, b.shx, b.shy, b.shifted, best, who, kind);
     scan_agents(i, b.centre, best, who, kind);
     schedule(i, best, who, kind);
   }
