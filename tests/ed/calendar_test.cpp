@@ -5,16 +5,14 @@
 #include <algorithm>
 #include <cmath>
 #include <memory>
-#include <string_view>
 #include <vector>
 
 #include <gtest/gtest.h>
 
 #include "engine/core/rng.hpp"
-#include "engine/ed/event_source.hpp"
 #include "engine/ed/pair_collision_time.hpp"
-#include "engine/ed/stream_inlet.hpp"
 #include "engine/ed/simulation.hpp"
+#include "tests/ed/plane_probe.hpp"
 
 namespace ed = grainflow::ed;
 
@@ -196,32 +194,6 @@ TEST(HeldEvents, PairHeldAcrossBothPartiesCrossingsHappensOnTime) {
   }
 }
 
-namespace {
-// Records the times at which disk centres reach x = xm, as the open-stream tests' mid-plane
-// counter does: a disk on the plane (within 1e−9) is taken for one just recorded and not
-// asked again, so the agent must not be asked afresh when the disk crosses a cell wall at
-// the plane at the same moment.
-class PlaneTimes final : public ed::ParticleAgent {
-public:
-  explicit PlaneTimes(double xm) : xm_(xm) {}
-  std::string_view name() const override { return "plane_times"; }
-  void cells(const ed::CellGrid& grid, std::vector<int>& out) const override { ed::plane_cells(grid, xm_, out); }
-  double event_time(const ed::SystemState& s, int i) const override {
-    const ed::DiskNow d = s.disk_now(i);
-    const double dx = xm_ - d.x;
-    if (std::abs(dx) < 1e-9 || dx * d.vx <= 0.0) return ed::kNever;
-    return dx / d.vx;
-  }
-  void action(ed::SystemState& s, int) override { times.push_back(s.now()); }
-  void save(grainflow::io::ArchiveWriter&) const override {}  // a test probe: nothing to resume
-  void load(grainflow::io::ArchiveReader&) override {}
-  std::vector<double> times;
-
-private:
-  double xm_;
-};
-}  // namespace
-
 TEST(HeldEvents, AgentOnACellWallActsWhenTheCrossingComesFirst) {
   // A lone disk at x = 2.5 moving at +1 in a periodic 20 × 20 box of width-1 cells reaches
   // the plane x = 10, a cell wall, at t = 7.5 + 20 k, in a tie with its crossing into the
@@ -235,7 +207,11 @@ TEST(HeldEvents, AgentOnACellWallActsWhenTheCrossingComesFirst) {
     d[0].v = {1.0, 0.0};
     ed::Simulation sim(c, d);
     ASSERT_EQ(sim.state().grid.width(), 1.0);
-    auto* plane = static_cast<PlaneTimes*>(sim.add_agent(std::make_unique<PlaneTimes>(10.0)));
+    // The probe ignores a disk on its plane (within 1e−9), taking it for one just recorded:
+    // it must not be asked again when the crossing at the same moment goes first.
+    auto* plane = static_cast<grainflow::test::PlaneProbe*>(
+        sim.add_agent(std::make_unique<grainflow::test::PlaneProbe>(10.0)));
+    plane->recording = true;
     sim.run_until(70.0);
     ASSERT_EQ(plane->times.size(), 4u);
     for (int k = 0; k < 4; ++k) EXPECT_NEAR(plane->times[k], 7.5 + 20.0 * k, 1e-9) << k;

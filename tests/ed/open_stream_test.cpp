@@ -22,45 +22,13 @@
 #include "engine/ed/simulation.hpp"
 #include "engine/io/archive.hpp"
 #include "tests/ed/ks_statistic.hpp"
+#include "tests/ed/plane_probe.hpp"
 
 namespace ed = grainflow::ed;
 using grainflow::test::ks_critical_001;
 using grainflow::test::ks_statistic;
 
 namespace {
-
-// Records W_x of every disk whose centre crosses x = xm (either way) without touching it.
-// A disk within 1e−9 of the plane is not asked again, so the one just recorded (left on
-// the plane by the synchronisation) is not recorded twice.
-class PlaneCrossings final : public ed::ParticleAgent {
-public:
-  explicit PlaneCrossings(double xm) : xm_(xm) {}
-  std::string_view name() const override { return "test_plane"; }
-  void cells(const ed::CellGrid& grid, std::vector<int>& out) const override { ed::plane_cells(grid, xm_, out); }
-  double event_time(const ed::SystemState& s, int i) const override {
-    const ed::DiskNow d = s.disk_now(i);
-    const double dx = xm_ - d.x;
-    if (std::abs(dx) < 1e-9 || dx * d.vx <= 0.0) return ed::kNever;
-    return dx / d.vx;
-  }
-  void action(ed::SystemState& s, int i) override {
-    if (recording) wx.push_back(s.disk[i].vx);
-  }
-  // What it has recorded so far; the plane is configuration.
-  void save(grainflow::io::ArchiveWriter& w) const override {
-    w.pod(recording);
-    w.array(wx);
-  }
-  void load(grainflow::io::ArchiveReader& r) override {
-    r.pod(recording);
-    r.array(wx);
-  }
-  bool recording = false;
-  std::vector<double> wx;
-
-private:
-  double xm_;
-};
 
 struct Channel {
   double U, kT, eta;
@@ -119,7 +87,7 @@ Result run_channel(const Channel& ch) {
   sc.turn_back = ch.turn_back;
   sc.seed = ch.seed + 100;
   const ed::LowDensityStream st = ed::add_low_density_stream(sim, sc);
-  auto* plane = static_cast<PlaneCrossings*>(sim.add_agent(std::make_unique<PlaneCrossings>(0.5 * (ch.x_in + ch.x_out))));
+  auto* plane = static_cast<grainflow::test::PlaneProbe*>(sim.add_agent(std::make_unique<grainflow::test::PlaneProbe>(0.5 * (ch.x_in + ch.x_out))));
 
   sim.run_until(ch.transient);
   plane->recording = true;
