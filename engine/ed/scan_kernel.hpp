@@ -1,6 +1,6 @@
 // The arithmetic of a neighbourhood scan (EventLoop::evaluate) four candidates at a time in
-// AVX2 lanes, for CPUs that have it (chosen at run time; the SSE2 two-lane loop and the
-// scalar one finish what is left, and do all of it elsewhere). Every lane does the IEEE
+// AVX2 lanes, for CPUs that have it (chosen at run time; on others the SSE2 two-lane loop
+// and the scalar one do it). Every lane does the IEEE
 // operations of pair_collision_time_branchless in the same order, with no fused
 // multiply-add (AVX2 alone has none), and the minimum is taken in candidate order: the
 // same bits as the two-lane loop on every CPU.
