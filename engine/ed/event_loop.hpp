@@ -539,31 +539,31 @@ private:
   void evaluate(const Disk& di, double ri, const Candidate* __restrict cand, int n, const double* shx,
                 const double* shy, [[maybe_unused]] bool shifted, double& best_out, int& who_out,
                 EventKind& kind_out) const {
+    // Each candidate is taken to now from the common epoch; with disks of one size the
+    // sum of radii is a constant and the bodies are not read.
+    const Disk* __restrict disk = s_.disk.data();
+    const DiskBody* __restrict body = s_.body.data();
+    const double since = s_.since_epoch();
+    const double ur = s_.uniform_radius();
+    const bool mixed = !(ur > 0.0);
+#if defined(GRAINFLOW_ED_AVX2)
+    // Four candidates per step where the CPU has AVX2 (the same bits: scan_kernel.hpp).
+    if (scan_uses_avx2()) {
+      const double held = best_out;
+      earliest_pair_avx2(ScanQuery{disk, body, shx, shy, di, ri, ur, since, mixed, shifted}, cand, n, best_out,
+                         who_out);
+      if (best_out < held) kind_out = EventKind::Pair;
+      return;
+    }
+#endif
     // Locals, so that the running minimum stays in registers (the references could alias
     // the stores below).
     double best = best_out;
     int who = who_out;
     EventKind kind = kind_out;
-    const Disk* __restrict disk = s_.disk.data();
+    int k = 0;
     // Two candidates per step in SSE2 lanes (the same IEEE operations in the same order
     // as pair_collision_time, so the same bits); the minimum is then taken in candidate order.
-    // Each candidate is taken to now from the common epoch; with disks of one size the
-    // sum of radii is a constant and the bodies are not read.
-    const double since = s_.since_epoch();
-    const double ur = s_.uniform_radius();
-    const bool mixed = !(ur > 0.0);
-    const DiskBody* __restrict body = s_.body.data();
-    int k = 0;
-#if defined(GRAINFLOW_ED_AVX2)
-    // Four candidates per step where the CPU has AVX2 (the same bits: scan_kernel.hpp).
-    if (scan_uses_avx2()) {
-      const double before = best;
-      earliest_pair_avx2(ScanQuery{disk, body, shx, shy, di, ri, ur, since, mixed, shifted}, cand, n, best_out,
-                         who_out);
-      if (best_out < before) kind_out = EventKind::Pair;
-      return;
-    }
-#endif
 #if defined(__SSE2__)
     const __m128d dt = _mm_set1_pd(since), zero = _mm_setzero_pd(), never = _mm_set1_pd(kNever);
     const __m128d sign = _mm_set1_pd(-0.0);
