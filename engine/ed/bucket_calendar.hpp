@@ -8,10 +8,17 @@
 // Buckets are chains of arrays of entry ids (chunks from one pool), not linked lists of
 // entries: at N ≳ 10^5 every list link an update touches is a cache miss (the old
 // neighbours and the old head), while an append writes the end of a chunk that is in
-// cache, and a bucket is read as a few contiguous arrays. Entries that move leave a stale copy behind
-// (lazy deletion): where_[e] names the one bucket whose copy counts. Same interface as
-// CellHeapCalendar, and the same order of events: the heap pops in the total order of
-// (key, entry), whatever the layout of the buckets.
+// cache, and a bucket is read as a few contiguous arrays.
+// Deletion is lazy everywhere, and the calendar keeps nothing per entry: an update appends
+// a new copy and leaves the old one behind. Whether a copy counts follows from the entry's
+// key alone — a bucket's copy counts when the key falls in that bucket, a heap copy (which
+// carries its key) when the key is still the one it carries — so stale copies are dropped
+// when their bucket comes up, and a live entry's copies all sit in one place (duplicates
+// there are harmless: the heap pops them in turn, and the second is stale by then unless
+// the entry was re-scheduled to the very same time, which is then its event). Keeping a
+// per-entry location instead costs 4 bytes a disk and a cache miss at every update.
+// Same interface as CellHeapCalendar, and the same order of events: the heap pops in the
+// total order of (key, entry), whatever the layout of the buckets.
 #pragma once
 #include <algorithm>
 #include <bit>
@@ -51,42 +58,32 @@ public:
     const std::int64_t want = std::max<std::int64_t>(64, static_cast<std::int64_t>(span_ * ne_ / per_bucket_));
     nc_ = static_cast<std::int32_t>((want + f_ - 1) / f_);
     nb_ = static_cast<std::int64_t>(nc_) * f_;
-    where_.assign(ne_, kParked);
     heap_.clear();
     heap_.reserve(64);
     pool_.clear();
     free_ = -1;
     // Buckets 0..F−1 are the fine ones, F..F+nc−1 the coarse ones, F+nc the overflow.
     bucket_.assign(static_cast<std::size_t>(overflow_id()) + 1, Bucket{});
-    n_listed_ = 0;
-    cur_ = 0;
-    w0_ = 0;
-    kcur_ = 0;
-    // Everything starts in the overflow; rebuild() tunes dt and distributes it.
+    n_copies_ = 0;
+    std::vector<std::int32_t> all;
     for (int e = 0; e < ne_; ++e)
-      if (std::isfinite(key_[e])) list_push(overflow_id(), e);
-    rebuild();
+      if (std::isfinite(key_[e])) all.push_back(e);
+    lay_out(all);
   }
 
-  void update(int e) {
-    const double t = key_[e];
-    if (where_[e] <= kHeap0 && std::isfinite(t) && bucket_of(t) <= cur_) {
-      resift(heap_pos(e));  // stays in the near-future window: re-sift in place
-      return;
-    }
-    detach(e);
-    insert(e);
-  }
+  // Entry e's key changed (to anything, infinity included): its new copy goes where the
+  // key falls; the old one turns stale.
+  void update(int e) { insert(e); }
   void moved(int, int, int) {}
-  // Cache hint: entry e is about to be updated.
-  void prefetch(int e) const { __builtin_prefetch(&where_[e]); }
-  // Entry e's disk left the system (its key is already kNever).
-  void removed(int e, int /*cell*/) { detach(e); }
+  // Entry e's disk left the system (its key is already kNever, so its copies are stale).
+  void removed(int, int) {}
   void commit() {}
 
   int top() {
-    while (heap_.empty()) {
-      if (n_listed_ == 0) return -1;
+    for (;;) {
+      while (!heap_.empty() && stale(heap_[0])) heap_pop();
+      if (!heap_.empty()) return heap_[0].e;
+      if (n_copies_ == 0) return -1;
       ++cur_;
       const std::int64_t rel = cur_ - w0_;
       if (rel >= nb_) {
@@ -100,29 +97,29 @@ public:
       }
       dump(s);
     }
-    return heap_[0];
   }
 
   double bucket_width() const { return dt_; }
   // The chunks counted are those ever handed out (the pool's high-water mark), not the
   // vector's capacity: its doubling reserve, up to as much again, is never touched.
   std::size_t memory_bytes() const {
-    return (heap_.capacity() + scratch_.capacity() + where_.capacity()) * 4 + pool_.size() * sizeof(Chunk) +
-           bucket_.capacity() * sizeof(Bucket);
+    return heap_.capacity() * sizeof(HeapCopy) + pool_.size() * sizeof(Chunk) + bucket_.capacity() * sizeof(Bucket);
   }
 
 private:
-  // where_[e]: the bucket holding e's live copy — a fine bucket 0..F−1 (of the coarse
-  // bucket being processed), coarse bucket k as F + k, the overflow as F + nc — or kParked
-  // (infinite key: nowhere), or heap position p as kHeap0 − p.
-  static constexpr std::int32_t kParked = -1;
-  static constexpr std::int32_t kHeap0 = -2;
+  // A heap copy carries the key it was pushed with, so sifting compares in place and a
+  // copy is stale once the entry's key is another.
+  struct HeapCopy {
+    double key;
+    std::int32_t e;
+  };
+  bool stale(const HeapCopy& c) const { return key_[c.e] != c.key; }
+  static bool less(const HeapCopy& a, const HeapCopy& b) { return a.key < b.key || (a.key == b.key && a.e < b.e); }
+
   std::int32_t overflow_id() const { return f_ + nc_; }
   // Bucket rel ≥ 0 of the window: its coarse bucket, and its place in it.
   std::int32_t coarse_of(std::int64_t rel) const { return static_cast<std::int32_t>(rel >> f_shift_); }
   std::int32_t fine_of(std::int64_t rel) const { return static_cast<std::int32_t>(rel & (f_ - 1)); }
-  int heap_pos(int e) const { return kHeap0 - where_[e]; }
-  void set_heap_pos(int e, int p) { where_[e] = kHeap0 - p; }
 
   // floor(t / dt) without the libm call std::floor compiles to on baseline x86-64, and with
   // a multiplication: any bucket map monotone in t gives the same event order (entries of
@@ -132,8 +129,27 @@ private:
     const auto b = static_cast<std::int64_t>(q);
     return b - (q < static_cast<double>(b));
   }
-  bool less(int a, int b) const { return key_[a] < key_[b] || (key_[a] == key_[b] && a < b); }
+  // Where a copy of key t belongs now: kHeap (the fine bucket being processed, or earlier),
+  // a fine bucket 0..F−1 of the coarse bucket being processed, coarse bucket k as F + k,
+  // the overflow as F + nc, or kNowhere (an infinite key).
+  static constexpr std::int32_t kNowhere = -1;
+  static constexpr std::int32_t kHeap = -2;
+  std::int32_t place(double t) const {
+    if (!std::isfinite(t)) return kNowhere;
+    const std::int64_t b = bucket_of(t);
+    if (b <= cur_) return kHeap;
+    const std::int64_t rel = b - w0_;
+    if (rel >= nb_) return overflow_id();
+    const std::int32_t k = coarse_of(rel);
+    return k == kcur_ ? fine_of(rel) : f_ + k;
+  }
 
+  void insert(int e) {
+    const double t = key_[e];
+    const std::int32_t id = place(t);
+    if (id == kHeap) heap_push({t, e});
+    else if (id != kNowhere) list_push(id, e);
+  }
   // Appends e to bucket `id` (a fine or coarse bucket, or the overflow).
   void list_push(std::int32_t id, int e) {
     Bucket& b = bucket_[static_cast<std::size_t>(id)];
@@ -144,8 +160,7 @@ private:
       b.n = 0;
     }
     pool_[static_cast<std::size_t>(b.tail)].ids[b.n++] = e;
-    where_[e] = id;
-    ++n_listed_;
+    ++n_copies_;
   }
   std::int32_t new_chunk() {
     std::int32_t c = free_;
@@ -159,8 +174,8 @@ private:
     return c;
   }
   // Calls f(e) for every id bucket `id` holds (stale copies included), then empties it
-  // and returns its chunks to the pool. Each chunk's entries (their where_ and key, which
-  // f reads: a miss each, at random) are prefetched together before f sees them.
+  // and returns its chunks to the pool. Each chunk's keys (which f reads: a miss each, at
+  // random) are prefetched together before f sees them.
   // hint_cells: also fetch each disk's cell entry (the bucket goes to the heap: its events
   // come next, and the loop starts each by reading the disk's cell).
   template <bool hint_cells = false, class F>
@@ -174,87 +189,70 @@ private:
       if (next >= 0) __builtin_prefetch(&pool_[static_cast<std::size_t>(next)]);
       const int n = c == b.tail ? b.n : kChunkIds;
       for (int q = 0; q < n; ++q) {
-        __builtin_prefetch(&where_[pool_[ci].ids[q]]);
         __builtin_prefetch(key_.at(pool_[ci].ids[q]));
         if constexpr (hint_cells)
           if (grid_ && pool_[ci].ids[q] < nd_) grid_->prefetch_cell(pool_[ci].ids[q]);
       }
+      n_copies_ -= n;
       for (int q = 0; q < n; ++q) f(pool_[ci].ids[q]);
       pool_[ci].next = free_;
       free_ = c;
       c = next;
     }
   }
-  void insert(int e) {
-    const double t = key_[e];
-    if (!std::isfinite(t)) { where_[e] = kParked; return; }
-    const std::int64_t b = bucket_of(t);
-    if (b <= cur_) { heap_push(e); return; }
-    const std::int64_t rel = b - w0_;
-    if (rel >= nb_) { list_push(overflow_id(), e); return; }
-    const std::int32_t k = coarse_of(rel);
-    list_push(k == kcur_ ? fine_of(rel) : f_ + k, e);
-  }
-  // Takes e out: from the heap at once, from a bucket lazily (its copy there turns stale).
-  void detach(int e) {
-    const std::int32_t w = where_[e];
-    if (w == kParked) return;
-    if (w <= kHeap0) {
-      const int p = heap_pos(e);
-      const int last = heap_.back();
-      heap_.pop_back();
-      if (last != e) {
-        heap_[p] = last;
-        set_heap_pos(last, p);
-        resift(p);
-      }
-    } else {
-      --n_listed_;
-    }
-    where_[e] = kParked;
-  }
 
-  // Coarse bucket k comes up: its live entries go to their fine buckets (or to the heap,
-  // those of the current fine bucket).
+  // Coarse bucket k comes up: its live copies go to their fine buckets (or to the heap,
+  // those of the current fine bucket). A live copy's key now falls in coarse bucket k,
+  // whose fine buckets place() names.
   void spread(std::int32_t k) {
-    const std::int32_t id = f_ + k;
-    drain(id, [&](std::int32_t e) {
-      if (where_[e] != id) return;  // stale copy
-      --n_listed_;
-      where_[e] = kParked;
-      insert(e);
+    drain(f_ + k, [&](std::int32_t e) {
+      const double t = key_[e];
+      const std::int32_t id = place(t);
+      if (id == kHeap) {
+        if (bucket_of(t) == cur_) heap_push({t, e});  // else stale: its key falls in an earlier bucket
+      } else if (id >= 0 && id < f_) {
+        list_push(id, e);
+      }
     });
   }
-  // Fine bucket s comes up: its live entries go to the heap.
+  // Fine bucket s (the current one) comes up: its live copies go to the heap.
   void dump(std::int32_t s) {
     drain<true>(s, [&](std::int32_t e) {
-      if (where_[e] != s) return;  // stale copy (or a second copy, already taken)
-      --n_listed_;
-      heap_push(e);
+      const double t = key_[e];
+      if (std::isfinite(t) && bucket_of(t) == cur_) heap_push({t, e});
     });
   }
 
-  // Called when the window is used up (so every scheduled entry sits in the overflow):
-  // re-tune dt from the current spread of event times and lay out a new window.
+  // Called when the window is used up (so every live copy sits in the overflow): re-tune
+  // dt from the current spread of event times and lay out a new window.
   void rebuild() {
-    scratch_.clear();
-    double tmin = std::numeric_limits<double>::infinity();
+    std::vector<std::int32_t> live;
     const std::int32_t id = overflow_id();
+    // cur_ has just passed the window, so place() would name the heap for keys in its
+    // first bucket beyond: a copy counts when its key lies beyond the window.
     drain(id, [&](std::int32_t e) {
-      if (where_[e] != id) return;
-      where_[e] = kParked;  // a second copy of e is now stale
-      scratch_.push_back(e);
-      tmin = std::min(tmin, key_[e]);
+      const double t = key_[e];
+      if (std::isfinite(t) && bucket_of(t) - w0_ >= nb_) live.push_back(e);
     });
-    n_listed_ -= static_cast<std::int64_t>(scratch_.size());
-    if (scratch_.empty()) return;
-    // Sort the overflow by entry so the layout does not depend on list history.
-    std::sort(scratch_.begin(), scratch_.end());
+    // One id per entry, in entry order: the layout does not depend on list history.
+    std::sort(live.begin(), live.end());
+    live.erase(std::unique(live.begin(), live.end()), live.end());
+    lay_out(live);
+  }
+  // Tunes dt to the spread of the given entries' keys (all finite, sorted, distinct, and
+  // in no bucket) and lays out a window from the least of them.
+  void lay_out(const std::vector<std::int32_t>& entries) {
+    heap_.clear();
+    cur_ = w0_ = 0;
+    kcur_ = 0;
+    if (entries.empty()) return;
+    double tmin = std::numeric_limits<double>::infinity();
+    for (int e : entries) tmin = std::min(tmin, key_[e]);
     double mean = 0.0;
-    for (int e : scratch_) mean += key_[e] - tmin;
-    mean /= static_cast<double>(scratch_.size());
+    for (int e : entries) mean += key_[e] - tmin;
+    mean /= static_cast<double>(entries.size());
     // n entries each firing about once per `mean` give n/mean events per unit time.
-    double dt = per_bucket_ * mean / static_cast<double>(scratch_.size());
+    double dt = per_bucket_ * mean / static_cast<double>(entries.size());
     if (!(dt > 0.0) || !std::isfinite(dt)) dt = dt_ > 0.0 ? dt_ : 1.0;
     // Keep bucket indices well inside int64 and dt above the spacing of doubles near tmin.
     dt = std::max(dt, std::abs(tmin) * 1e-13 + 1e-300);
@@ -262,44 +260,35 @@ private:
     inv_dt_ = 1.0 / dt;
     cur_ = bucket_of(tmin);
     w0_ = cur_;
-    kcur_ = 0;
-    for (int e : scratch_) insert(e);
+    for (int e : entries) insert(e);
   }
 
-  void heap_push(int e) {
-    heap_.push_back(e);
-    sift_up(static_cast<int>(heap_.size()) - 1);
-  }
-  // Restores the heap order around position p after its entry's key changed.
-  void resift(int p) {
-    if (p > 0 && less(heap_[p], heap_[(p - 1) / 2])) sift_up(p); else sift_down(p);
-  }
-  void sift_up(int p) {
-    const int e = heap_[p];
+  void heap_push(HeapCopy c) {
+    heap_.push_back(c);
+    std::size_t p = heap_.size() - 1;
     while (p > 0) {
-      const int parent = (p - 1) / 2;
-      if (!less(e, heap_[parent])) break;
+      const std::size_t parent = (p - 1) / 2;
+      if (!less(c, heap_[parent])) break;
       heap_[p] = heap_[parent];
-      set_heap_pos(heap_[p], p);
       p = parent;
     }
-    heap_[p] = e;
-    set_heap_pos(e, p);
+    heap_[p] = c;
   }
-  void sift_down(int p) {
-    const int size = static_cast<int>(heap_.size());
-    const int e = heap_[p];
+  void heap_pop() {
+    const HeapCopy c = heap_.back();
+    heap_.pop_back();
+    const std::size_t size = heap_.size();
+    if (size == 0) return;
+    std::size_t p = 0;
     for (;;) {
-      int c = 2 * p + 1;
-      if (c >= size) break;
-      if (c + 1 < size && less(heap_[c + 1], heap_[c])) ++c;
-      if (!less(heap_[c], e)) break;
-      heap_[p] = heap_[c];
-      set_heap_pos(heap_[p], p);
-      p = c;
+      std::size_t ch = 2 * p + 1;
+      if (ch >= size) break;
+      if (ch + 1 < size && less(heap_[ch + 1], heap_[ch])) ++ch;
+      if (!less(heap_[ch], c)) break;
+      heap_[p] = heap_[ch];
+      p = ch;
     }
-    heap_[p] = e;
-    set_heap_pos(e, p);
+    heap_[p] = c;
   }
 
   double per_bucket_, span_;
@@ -309,9 +298,9 @@ private:
   const CellGrid* grid_ = nullptr;  // for cache hints only
   int ne_ = 0, nd_ = 0;
   std::int32_t nc_ = 0, kcur_ = 0;  // coarse buckets in the window; the one being processed
-  std::int64_t nb_ = 0, cur_ = 0, w0_ = 0, n_listed_ = 0;
+  std::int64_t nb_ = 0, cur_ = 0, w0_ = 0;
+  std::int64_t n_copies_ = 0;  // ids in the buckets, stale ones included
   double dt_ = 0.0, inv_dt_ = 0.0;
-  HugeVector<std::int32_t> where_;
   // A bucket is a chain of chunks, appended at the tail; empty chunks form the free list.
   // One cache line per chunk; a bucket keeps the fill of its tail chunk (the others are
   // full), so an append writes only the tail chunk.
@@ -326,7 +315,7 @@ private:
   HugeVector<Chunk> pool_;
   std::int32_t free_ = -1;
   std::vector<Bucket> bucket_;
-  std::vector<std::int32_t> heap_, scratch_;
+  std::vector<HeapCopy> heap_;
 };
 
 }  // namespace grainflow::ed

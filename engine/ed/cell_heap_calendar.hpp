@@ -43,7 +43,6 @@ public:
     mark(from_cell);
     mark(to_cell);
   }
-  void prefetch(int) const {}  // cache hint (BucketCalendar's); nothing worth fetching here
   // Disk e left the system from `cell` (no longer in the cell map).
   void removed(int /*e*/, int cell) { mark(cell); }
   void commit() {

@@ -709,7 +709,6 @@ private:
     a.n = gather(i, a.block.cells, a.block.nc, a.cand);
     b.n = gather(j, b.block.cells, b.block.nc, b.cand);
     __builtin_prefetch(&s_.event[j], 1);  // written by predict_parties
-    cal_.prefetch(j);
   }
   void predict_parties(int i, int j) {
     predict_listed(i, party_[0].block, party_[0].cand.data(), party_[0].n);

@@ -1,9 +1,10 @@
 // The bucket calendar on its own (engine/ed/bucket_calendar.hpp), against a brute-force
 // minimum: whatever the tuning, it must pop the entry of least (key, index) among the
 // finite keys, through re-schedulings to the near and the far future, infinite keys,
-// removals and window rebuilds. Small systems in the engine's tests leave the coarse tier
-// (buckets of F fine buckets) nearly empty; a small F here exercises its spreading and its
-// stale copies.
+// removals and window rebuilds, and through the duplicate copies lazy deletion leaves when
+// an entry returns to a key it had or the calendar is told twice of one change. Small
+// systems in the engine's tests leave the coarse tier (buckets of F fine buckets) nearly
+// empty; a small F here exercises its spreading and its stale copies.
 #include <cmath>
 #include <cstdint>
 #include <random>
@@ -51,9 +52,17 @@ void check(const Tuning& tn, int n, int pops, std::uint64_t seed) {
       const double other = key[static_cast<int>(rng() % n)];
       key[e] = other < ed::kNever ? other : now;
     }
+    else if (r < 0.13) {  // away and back to the same key: copies of one key pile up
+      const double back = key[e] < ed::kNever && key[e] >= now ? key[e] : now + wait(rng);
+      key[e] = now + wait(rng);
+      cal.update(e);
+      key[e] = back;
+      cal.update(e);
+    }
     else key[e] = now + wait(rng);
     if (key[e] < now) key[e] = now;
     cal.update(e);
+    if (u(rng) < 0.02) cal.update(e);  // told twice of one change
   };
   int popped = 0;
   for (int k = 0; k < pops; ++k) {
