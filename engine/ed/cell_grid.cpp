@@ -26,8 +26,14 @@ CellGrid::CellGrid(double lx, double ly, bool periodic_x, bool periodic_y, doubl
   h_ = ly / ny_;
   const double d = min_diameter;
   if (!(d > 0.0)) throw Error(fmt::format("ed: smallest disk diameter {} must be positive", d));
-  cap_ = static_cast<int>(std::floor(2.0 * w_ * h_ / (std::sqrt(3.0) * d * d) + (w_ + h_) / d + 1.0));
-  stride_ = (static_cast<std::size_t>(kSlotBytes) * (cap_ + 1) + 3) / 4 * 4;
+  const double cap = std::floor(2.0 * w_ * h_ / (std::sqrt(3.0) * d * d) + (w_ + h_) / d + 1.0);
+  if (!(cap <= kMaxCapacity))
+    throw Error(fmt::format("ed: cells of {} x {} for disks of diameter down to {} could hold {} disks, more "
+                            "than the {} a cell can list — the largest diameter (which sets the cell size) may "
+                            "be at most about 14 times the smallest",
+                            w_, h_, d, cap, kMaxCapacity));
+  cap_ = static_cast<int>(cap);
+  stride_ = 1 + static_cast<std::size_t>(kSlotBytes) * cap_;
   slots_.assign(static_cast<std::size_t>(nx_) * ny_ * stride_ + 4, 0);
 }
 
@@ -54,8 +60,8 @@ HugeVector<std::uint8_t> CellGrid::packed_slots(const HugeVector<std::int32_t>& 
     const std::int32_t* b = &unpacked[static_cast<std::size_t>(c) * (cap_ + 1)];
     const int n = std::clamp(b[0], 0, cap_);
     std::uint8_t* o = out.data() + static_cast<std::size_t>(c) * stride_;
-    store(o, n);
-    for (int k = 1; k <= n; ++k) store(o + kSlotBytes * k, b[k] >= 0 && b[k] < kMaxDisks ? b[k] : 0);
+    o[0] = static_cast<std::uint8_t>(n);
+    for (int k = 1; k <= n; ++k) store(o + 1 + kSlotBytes * (k - 1), b[k] >= 0 && b[k] < kMaxDisks ? b[k] : 0);
   }
   return out;
 }

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cstdint>
 #include <random>
+#include <string>
 #include <vector>
 
 #include "engine/core/error.hpp"
@@ -86,13 +87,25 @@ TEST(CellGrid, KeepsMembershipThroughInsertsAndRemovals) {
   expect_same(g, m, ids);
 }
 
-TEST(CellGrid, OneDiameterCellsTakeSixteenBytes) {
-  // Capacity 4 with a count: five 3-byte slots in a 16-byte block (20 bytes with 4-byte
-  // slots), so the three cells of a scanned row mostly share one 64-byte line.
+TEST(CellGrid, OneDiameterCellsTakeThirteenBytes) {
+  // Capacity 4: a count byte and four 3-byte slots, unpadded (16 bytes with a 3-byte count
+  // and padding, 20 with 4-byte slots), so the three cells of a scanned row take 39 bytes.
   ed::CellGrid g(40.0, 30.0, true, true, 1.0);
   ASSERT_EQ(g.capacity(), 4);
   g.resize_particles(1000);
-  EXPECT_EQ(g.memory_bytes(), static_cast<std::size_t>(g.size()) * 16 + 4 + 1000 * 4);
+  EXPECT_EQ(g.memory_bytes(), static_cast<std::size_t>(g.size()) * 13 + 4 + 1000 * 4);
+}
+
+TEST(CellGrid, RefusesCellsOfMoreDisksThanTheCountByteHolds) {
+  // Cells set by a diameter of 1 and disks down to 1/20 of it: about 470 disks could crowd
+  // into one cell.
+  EXPECT_NO_THROW(ed::CellGrid(40.0, 30.0, true, true, 1.0, 0.1));
+  try {
+    ed::CellGrid(40.0, 30.0, true, true, 1.0, 0.05);
+    ADD_FAILURE() << "no error";
+  } catch (const grainflow::Error& e) {
+    EXPECT_NE(std::string(e.what()).find("at most about 14 times"), std::string::npos) << e.what();
+  }
 }
 
 TEST(CellGrid, RefusesMoreDiskSlotsThanASlotCanName) {
