@@ -32,12 +32,14 @@
 #include "engine/ed/calendar_keys.hpp"
 #include "engine/ed/cell_grid.hpp"
 #include "engine/ed/huge_pages.hpp"
+#include "engine/ed/id24.hpp"
 
 namespace grainflow::ed {
 
 class BucketCalendar {
 public:
   static constexpr const char* kName = "bucket";
+  static constexpr int kMaxEntries = 1 << 24;
 
   // Tuning: expected events per fine bucket, window span in mean event intervals of an
   // entry, and fine buckets per coarse bucket, a power of two (a bucket's coarse bucket
@@ -55,6 +57,9 @@ public:
     grid_ = grid;
     nd_ = n_disks;
     ne_ = n_disks + n_timers;
+    if (ne_ > kMaxEntries)
+      throw Error("ed: bucket calendar: " + std::to_string(ne_) + " entries (disk slots and timers); at most " +
+                  std::to_string(kMaxEntries) + " fit its 3-byte ids");
     const std::int64_t want = std::max<std::int64_t>(64, static_cast<std::int64_t>(span_ * ne_ / per_bucket_));
     nc_ = static_cast<std::int32_t>((want + f_ - 1) / f_);
     nb_ = static_cast<std::int64_t>(nc_) * f_;
@@ -159,7 +164,7 @@ private:
       b.tail = c;
       b.n = 0;
     }
-    pool_[static_cast<std::size_t>(b.tail)].ids[b.n++] = e;
+    pool_[static_cast<std::size_t>(b.tail)].set(b.n++, e);
     ++n_copies_;
   }
   std::int32_t new_chunk() {
@@ -189,12 +194,13 @@ private:
       if (next >= 0) __builtin_prefetch(&pool_[static_cast<std::size_t>(next)]);
       const int n = c == b.tail ? b.n : kChunkIds;
       for (int q = 0; q < n; ++q) {
-        __builtin_prefetch(key_.at(pool_[ci].ids[q]));
+        const int e = pool_[ci].id(q);
+        __builtin_prefetch(key_.at(e));
         if constexpr (hint_cells)
-          if (grid_ && pool_[ci].ids[q] < nd_) grid_->prefetch_cell(pool_[ci].ids[q]);
+          if (grid_ && e < nd_) grid_->prefetch_cell(e);
       }
       n_copies_ -= n;
-      for (int q = 0; q < n; ++q) f(pool_[ci].ids[q]);
+      for (int q = 0; q < n; ++q) f(pool_[ci].id(q));
       pool_[ci].next = free_;
       free_ = c;
       c = next;
@@ -302,13 +308,17 @@ private:
   std::int64_t n_copies_ = 0;  // ids in the buckets, stale ones included
   double dt_ = 0.0, inv_dt_ = 0.0;
   // A bucket is a chain of chunks, appended at the tail; empty chunks form the free list.
-  // One cache line per chunk; a bucket keeps the fill of its tail chunk (the others are
-  // full), so an append writes only the tail chunk.
-  static constexpr int kChunkIds = 15;
+  // One cache line per chunk: 20 ids of 3 bytes (15 of 4), then the link, which is the
+  // byte a 4-byte read of the last id takes beyond it. A bucket keeps the fill of its
+  // tail chunk (the others are full), so an append writes only the tail chunk.
+  static constexpr int kChunkIds = 20;
   struct alignas(64) Chunk {
+    std::uint8_t ids[kChunkIds * kId24Bytes];
     std::int32_t next;
-    std::int32_t ids[kChunkIds];
+    int id(int q) const { return load_id24(ids + kId24Bytes * q); }
+    void set(int q, int e) { store_id24(ids + kId24Bytes * q, e); }
   };
+  static_assert(sizeof(Chunk) == 64);
   struct Bucket {
     std::int32_t head = -1, tail = -1, n = 0;
   };

@@ -2,12 +2,11 @@
 // the largest diameter, each holding its disks in a short block of slots, so a disk only
 // meets disks of its 3×3 neighbourhood; periodic axes wrap with an image shift.
 #pragma once
-#include <bit>
 #include <cstdint>
-#include <cstring>
 #include <vector>
 
 #include "engine/ed/huge_pages.hpp"
+#include "engine/ed/id24.hpp"
 
 namespace grainflow::io {
 class ArchiveWriter;
@@ -174,19 +173,10 @@ private:
   bool px_ = false, py_ = false;
   void overflow(int c) const;  // throws: only overlapping disks can overfill a cell
   void check_disks(int n) const;  // throws beyond kMaxDisks
-  static constexpr int kSlotBytes = 3;
-  // A 3-byte slot read as 4 bytes (the last block is followed by slack) and masked.
-  static int load(const std::uint8_t* p) {
-    std::uint32_t v;
-    std::memcpy(&v, p, 4);
-    if constexpr (std::endian::native == std::endian::big) v = __builtin_bswap32(v);
-    return static_cast<int>(v & 0xFFFFFFu);
-  }
-  static void store(std::uint8_t* p, int v) {
-    p[0] = static_cast<std::uint8_t>(v);
-    p[1] = static_cast<std::uint8_t>(v >> 8);
-    p[2] = static_cast<std::uint8_t>(v >> 16);
-  }
+  static constexpr int kSlotBytes = kId24Bytes;
+  // A slot read as 4 bytes (the last block is followed by slack) and masked.
+  static int load(const std::uint8_t* p) { return load_id24(p); }
+  static void store(std::uint8_t* p, int v) { store_id24(p, v); }
   std::uint8_t* block(int c) { return slots_.data() + static_cast<std::size_t>(c) * stride_; }
   // The blocks as checkpoints keep them (capacity + 1 four-byte slots a cell), and back.
   HugeVector<std::int32_t> unpacked_slots() const;
