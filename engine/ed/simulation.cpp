@@ -357,14 +357,16 @@ double Simulation::min_gap() const {
 }
 
 std::vector<Simulation::MemoryPart> Simulation::memory_parts() const {
-  // Agents and frozen disks read the bodies at their events (see simulation.hpp).
+  // Agents and frozen disks read the bodies at their events, and the slot states, as do
+  // timers' actions, which add, remove and touch disks (see simulation.hpp).
   const bool bodies_hot = !s_.plain_disks() || !s_.agents.empty() || s_.frozen_count() > 0;
+  const bool slots_hot = !s_.agents.empty() || !s_.timers.empty() || s_.frozen_count() > 0;
   return {{"disk records", s_.disk.capacity() * sizeof(Disk), true},
           {"bodies", s_.body.capacity() * sizeof(DiskBody), bodies_hot},
           {"event records", s_.event.capacity() * sizeof(NextEvent), true},
           {"agent event times", s_.agent_time.capacity() * sizeof(double), !s_.agents.empty()},
           {"counters", s_.counter.capacity() * sizeof(std::uint32_t), true},
-          {"slot states", s_.slot.capacity() * sizeof(SlotState), true},
+          {"slot states", s_.slot.capacity() * sizeof(SlotState), slots_hot},
           {"cell map", s_.grid.memory_bytes(), true},
           {"calendar", loop_->calendar_bytes(), true},
           {"ids", s_.tag.capacity() * sizeof(std::int64_t), false},

@@ -166,9 +166,10 @@ public:
   const char* calendar() const { return loop_->calendar_name(); }
   std::size_t memory_bytes() const;  // engine state incl. calendar, excluding agents
   // memory_bytes() array by array, each with whether the event loop touches it (hot: the
-  // disk records a scan reads, event records, counters, slot states, the cell map and the
-  // calendar; the bodies unless the disks are plain and no agent or frozen disk is
-  // present, the TC times while the TC model is on) or not (cold: persistent ids).
+  // disk records a scan reads, event records, counters, the cell map and the calendar; the
+  // bodies unless the disks are plain and no agent or frozen disk is present; the slot
+  // states while an agent, a timer or a frozen disk is; the TC times while the TC model
+  // is on) or not (cold: persistent ids).
   struct MemoryPart {
     const char* name;
     std::size_t bytes;
