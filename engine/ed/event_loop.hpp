@@ -534,10 +534,10 @@ private:
     return n;
   }
   // The second half: the earliest pair event of a disk at di now (radius ri) with the
-  // candidates cand[0..n) (their cells' image shifts in shx, shy, all zero unless
-  // `shifted`; the padding follows), if earlier than best_out.
+  // candidates cand[0..n) (their cells' image shifts in shx, shy, read only when
+  // `shifted`, else all taken as zero; the padding follows), if earlier than best_out.
   void evaluate(const Disk& di, double ri, const Candidate* __restrict cand, int n, const double* shx,
-                const double* shy, [[maybe_unused]] bool shifted, double& best_out, int& who_out,
+                const double* shy, bool shifted, double& best_out, int& who_out,
                 EventKind& kind_out) const {
     // Each candidate is taken to now from the common epoch; with disks of one size the
     // sum of radii is a constant and the bodies are not read.
@@ -556,6 +556,7 @@ private:
       return;
     }
 #endif
+    if (!shifted) shx = shy = kNoShift;
     // Locals, so that the running minimum stays in registers (the references could alias
     // the stores below).
     double best = best_out;
@@ -640,10 +641,11 @@ private:
   }
 
   // The 3×3 block of cells around cell `centre` (§2.2), in scan order, with image shifts.
+  static constexpr double kNoShift[9] = {};  // the image shifts of a block away from periodic edges
   struct Block {
     int centre = -1;
     int cells[9];
-    double shx[9], shy[9];
+    double shx[9], shy[9];  // set only where `shifted`
     int nc = 0;
     bool shifted = false;  // some shift is not zero (a periodic edge)
   };
@@ -654,12 +656,10 @@ private:
     b.nc = 0;
     b.shifted = false;
     if (ix > 0 && ix + 1 < g.nx() && iy > 0 && iy + 1 < g.ny()) {
-      // Away from the edges (nearly always): the 3×3 block in the same order, no images.
+      // Away from the edges (nearly always): the 3×3 block in the same order, no images
+      // (the shifts are left unset: not `shifted`, so no scan reads them).
       for (int ky = -1; ky <= 1; ++ky)
-        for (int kx = -1; kx <= 1; ++kx) {
-          b.shx[b.nc] = b.shy[b.nc] = 0.0;
-          b.cells[b.nc++] = c + ky * g.nx() + kx;
-        }
+        for (int kx = -1; kx <= 1; ++kx) b.cells[b.nc++] = c + ky * g.nx() + kx;
     } else {
       for (int ky = -1; ky <= 1; ++ky) {
         int cy = iy + ky;
