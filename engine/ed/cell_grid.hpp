@@ -89,14 +89,14 @@ public:
   // A cell's slot block as a scan reads it: the count, then the members.
   class Slots {
   public:
-    Slots() = default;
+    Slots() {}  // unset (a scan's array of them is filled before it is read)
     explicit Slots(const std::uint8_t* p) : p_(p) {}
     int count() const { return p_[0]; }
     int member(int k) const { return load(p_ + 1 + kSlotBytes * k); }
     const void* address() const { return p_; }
 
   private:
-    const std::uint8_t* p_ = nullptr;
+    const std::uint8_t* p_;
   };
   Slots cell_slots(int c) const { return Slots(slots_.data() + static_cast<std::size_t>(c) * stride_); }
   int count(int c) const { return cell_slots(c).count(); }

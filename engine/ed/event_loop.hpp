@@ -519,19 +519,19 @@ private:
       __builtin_prefetch(slot[k].address());
     }
     const Disk* __restrict disk = s_.disk.data();
-    Candidate* __restrict cand = buf.data();
-    int n = 0;
+    Candidate* __restrict out = buf.data();
+    Candidate* const first = out;
     for (int k = 0; k < nc; ++k) {
       const CellGrid::Slots s = slot[k];
       for (int q = 0, end = s.count(); q < end; ++q) {
         const int j = s.member(q);
         __builtin_prefetch(disk + j);
-        cand[n] = Candidate{j, k};
-        n += (j != i);
+        *out = Candidate{j, k};
+        out += (j != i);
       }
     }
-    for (int p = 0; p < kScanPad; ++p) cand[n + p] = Candidate{i, 0};
-    return n;
+    for (int p = 0; p < kScanPad; ++p) out[p] = Candidate{i, 0};
+    return static_cast<int>(out - first);
   }
   // The second half: the earliest pair event of a disk at di now (radius ri) with the
   // candidates cand[0..n) (their cells' image shifts in shx, shy, read only when
