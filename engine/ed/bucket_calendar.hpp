@@ -42,11 +42,12 @@ public:
   static constexpr int kMaxEntries = 1 << 24;
 
   // Tuning: expected events per fine bucket, window span in mean event intervals of an
-  // entry, and fine buckets per coarse bucket, a power of two (a bucket's coarse bucket
-  // and place in it are then a shift and a mask, not a 64-bit division, at every insert).
+  // entry, and fine buckets per coarse bucket at most, a power of two (a bucket's coarse
+  // bucket and place in it are then a shift and a mask, not a 64-bit division, at every
+  // insert). Fewer fine buckets are used for fewer than 64 entries a fine bucket: each
+  // fine bucket in use holds a chunk of its own, a cache line for about two entries.
   explicit BucketCalendar(double events_per_bucket = 2.0, double span = 8.0, int fine_per_coarse = 512)
-      : per_bucket_(events_per_bucket), span_(span), f_(fine_per_coarse), f_shift_(std::countr_zero(
-                                                                              static_cast<unsigned>(fine_per_coarse))) {
+      : per_bucket_(events_per_bucket), span_(span), max_f_(fine_per_coarse) {
     if (fine_per_coarse < 1 || !std::has_single_bit(static_cast<unsigned>(fine_per_coarse)))
       throw Error("ed: bucket calendar: fine buckets per coarse bucket must be a power of two, not " +
                   std::to_string(fine_per_coarse));
@@ -60,6 +61,8 @@ public:
     if (ne_ > kMaxEntries)
       throw Error("ed: bucket calendar: " + std::to_string(ne_) + " entries (disk slots and timers); at most " +
                   std::to_string(kMaxEntries) + " fit its 3-byte ids");
+    f_ = std::min(max_f_, static_cast<std::int32_t>(std::bit_floor(static_cast<unsigned>(std::max(1, ne_ / 64)))));
+    f_shift_ = std::countr_zero(static_cast<unsigned>(f_));
     const std::int64_t want = std::max<std::int64_t>(64, static_cast<std::int64_t>(span_ * ne_ / per_bucket_));
     nc_ = static_cast<std::int32_t>((want + f_ - 1) / f_);
     nb_ = static_cast<std::int64_t>(nc_) * f_;
@@ -298,8 +301,9 @@ private:
   }
 
   double per_bucket_, span_;
-  std::int32_t f_;  // fine buckets per coarse bucket
-  int f_shift_;     // log2 f_
+  std::int32_t max_f_;     // fine buckets per coarse bucket, at most
+  std::int32_t f_ = 1;     // fine buckets per coarse bucket
+  int f_shift_ = 0;        // log2 f_
   CalendarKeys key_;
   const CellGrid* grid_ = nullptr;  // for cache hints only
   int ne_ = 0, nd_ = 0;
