@@ -61,7 +61,7 @@ HugeVector<std::uint8_t> CellGrid::packed_slots(const HugeVector<std::int32_t>& 
     const int n = std::clamp(b[0], 0, cap_);
     std::uint8_t* o = out.data() + static_cast<std::size_t>(c) * stride_;
     o[0] = static_cast<std::uint8_t>(n);
-    for (int k = 1; k <= n; ++k) store(o + 1 + kSlotBytes * (k - 1), b[k] >= 0 && b[k] < kMaxDisks ? b[k] : 0);
+    for (int k = 1; k <= n; ++k) store_id24(o + 1 + kSlotBytes * (k - 1), b[k] >= 0 && b[k] < kMaxDisks ? b[k] : 0);
   }
   return out;
 }

@@ -71,7 +71,7 @@ public:
     const int n = s[0];
     if (n >= cap_) overflow(c);
     cell_[i] = c;
-    store(s + 1 + kSlotBytes * n, i);
+    store_id24(s + 1 + kSlotBytes * n, i);
     s[0] = static_cast<std::uint8_t>(n + 1);
   }
   // The last member takes i's place. i's place is found in the cell's few slots, on the
@@ -81,8 +81,8 @@ public:
     std::uint8_t* s = block(cell_[i]);
     const int n = s[0];
     std::uint8_t* p = s + 1;
-    while (load(p) != i) p += kSlotBytes;  // i is a member: the search ends inside the cell
-    store(p, load(s + 1 + kSlotBytes * (n - 1)));
+    while (load_id24(p) != i) p += kSlotBytes;  // i is a member: the search ends inside the cell
+    store_id24(p, load_id24(s + 1 + kSlotBytes * (n - 1)));
     s[0] = static_cast<std::uint8_t>(n - 1);
     cell_[i] = -1;
   }
@@ -92,7 +92,7 @@ public:
     Slots() {}  // unset (a scan's array of them is filled before it is read)
     explicit Slots(const std::uint8_t* p) : p_(p) {}
     int count() const { return p_[0]; }
-    int member(int k) const { return load(p_ + 1 + kSlotBytes * k); }
+    int member(int k) const { return load_id24(p_ + 1 + kSlotBytes * k); }
     const void* address() const { return p_; }
 
   private:
@@ -173,10 +173,9 @@ private:
   bool px_ = false, py_ = false;
   void overflow(int c) const;  // throws: only overlapping disks can overfill a cell
   void check_disks(int n) const;  // throws beyond kMaxDisks
+  // Slots are 3-byte ids; load_id24 reads 4 bytes, which the slack after the last block
+  // allows.
   static constexpr int kSlotBytes = kId24Bytes;
-  // A slot read as 4 bytes (the last block is followed by slack) and masked.
-  static int load(const std::uint8_t* p) { return load_id24(p); }
-  static void store(std::uint8_t* p, int v) { store_id24(p, v); }
   std::uint8_t* block(int c) { return slots_.data() + static_cast<std::size_t>(c) * stride_; }
   // The blocks as checkpoints keep them (capacity + 1 four-byte slots a cell), and back.
   HugeVector<std::int32_t> unpacked_slots() const;

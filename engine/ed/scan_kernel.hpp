@@ -28,7 +28,7 @@ inline constexpr int kScanPad = 3;
 
 // What a scan is asked: disk i at di now (radius ri), the records at the common epoch
 // `since` ago, the uniform radius ur (or mixed radii read from body), the cells' image
-// shifts (all zero unless `shifted`: away from a periodic edge).
+// shifts (read only when `shifted`, else zero: away from a periodic edge they are unset).
 struct ScanQuery {
   const Disk* disk;
   const DiskBody* body;
