@@ -54,6 +54,11 @@ public:
   }
 
   void reset(CalendarKeys key, const CellGrid* grid, int n_disks, int n_timers) {
+    reset(key, grid, n_disks, n_timers, [](int) { return true; });
+  }
+  // The same with only the entries `keep` takes (a lane of the parallel loop: its band's).
+  template <class Keep>
+  void reset(CalendarKeys key, const CellGrid* grid, int n_disks, int n_timers, Keep&& keep) {
     key_ = key;
     grid_ = grid;
     nd_ = n_disks;
@@ -75,7 +80,7 @@ public:
     n_copies_ = 0;
     std::vector<std::int32_t> all;
     for (int e = 0; e < ne_; ++e)
-      if (std::isfinite(key_[e])) all.push_back(e);
+      if (std::isfinite(key_[e]) && keep(e)) all.push_back(e);
     lay_out(all);
   }
 
@@ -107,6 +112,8 @@ public:
     }
   }
 
+  // Leaves out the copy top() returned (a lane's copy of an entry the other lane now owns).
+  void drop_top() { heap_pop(); }
   double bucket_width() const { return dt_; }
   // The chunks counted are those ever handed out (the pool's high-water mark), not the
   // vector's capacity: its doubling reserve, up to as much again, is never touched.

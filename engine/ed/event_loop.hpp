@@ -10,8 +10,10 @@
 #include <cstdint>
 #include <functional>
 #include <limits>
+#include <thread>
 #include <vector>
 
+#include "engine/ed/lane_link.hpp"
 #include "engine/ed/scan_kernel.hpp"
 #include "engine/ed/system_state.hpp"
 
@@ -48,7 +50,12 @@ public:
   std::function<void(const CollisionRecord&)> on_collision;  // empty: no tracing
 };
 
-template <class Calendar>
+// kLane: one of the two lanes of ParallelLoop (parallel_loop.hpp), which keeps its own
+// clock and books (LaneBooks), takes only the events of its band of cell rows, and sends
+// the disks of the other band whose events it changes to the other lane (LaneLink);
+// ParallelLoop drives it through the lane_ functions below. Otherwise the one loop of a
+// simulation, on the state's own clock and books.
+template <class Calendar, bool kLane = false>
 class EventLoop final : public EventLoopBase {
 public:
   explicit EventLoop(SystemState& s, Calendar cal = Calendar()) : s_(s), cal_(std::move(cal)) {}
@@ -62,7 +69,7 @@ public:
     s_.clear_changes();
     s_.clear_touched();
     s_.clear_rescheduled();  // every timer is asked below
-    for (int a = 0; a < nt; ++a) s_.event[n + a].key = std::max(s_.now(), s_.timers[a]->event_time(s_));
+    for (int a = 0; a < nt; ++a) s_.event[n + a].key = std::max(now(), s_.timers[a]->event_time(s_));
     cal_.reset(s_.calendar_keys(), &s_.grid, n, nt);
   }
 
@@ -77,7 +84,7 @@ public:
       if (e < 0 || s_.event[e].key > t) break;
       process(e);
     }
-    s_.advance_clock(t);
+    advance_clock(t);
   }
 
   bool run_until(double t, std::uint64_t max_events) override {
@@ -85,7 +92,7 @@ public:
     for (std::uint64_t k = 0; k < max_events; ++k) {
       const int e = cal_.top();
       if (e < 0 || s_.event[e].key > t) {
-        s_.advance_clock(t);
+        advance_clock(t);
         return true;
       }
       process(e);
@@ -111,13 +118,155 @@ public:
   std::size_t calendar_bytes() const override { return cal_.memory_bytes(); }
   const char* calendar_name() const override { return Calendar::kName; }
 
+  // ---- a lane of ParallelLoop (kLane only) ---------------------------------------------
+  void lane_attach(LaneLink* link, int me) {
+    static_assert(kLane);
+    link_ = link;
+    me_ = me;
+  }
+  LaneBooks& lane_books() { return books_; }
+  // Fills the calendar with the events of the disks in this lane's band (the records as
+  // they stand).
+  void lane_fill() {
+    mine_.assign(static_cast<std::size_t>(s_.size()), 0);
+    for (int i = 0; i < s_.size(); ++i)
+      mine_[static_cast<std::size_t>(i)] = s_.present(i) && owner(i) == me_;
+    cal_.reset(s_.calendar_keys(), &s_.grid, s_.size(), 0, [this](int e) { return owns(e); });
+  }
+  // Predicts every disk present on this lane's clock (the records only; lane_fill then).
+  void lane_predict_all() {
+    s_.reset_events(s_.size(), 0);
+    for (int i = 0; i < s_.size(); ++i)
+      if (s_.present(i)) predict_full(i);
+  }
+  // This lane's next event: the mail is taken in first, and copies of entries that now
+  // belong to the other lane are dropped.
+  EventOrder lane_next() {
+    link_->take(me_, [this](int e) {
+      mine_[static_cast<std::size_t>(e)] = 1;
+      cal_.update(e);
+    });
+    for (;;) {
+      const int e = cal_.top();
+      if (e < 0) return EventOrder{};
+      if (owns(e)) return EventOrder{s_.event[e].key, e};
+      cal_.drop_top();
+    }
+  }
+  // Processes e, the lane's next event, with no regard to the other lane (ParallelLoop's
+  // merged order on one thread).
+  void lane_process(int e) { process(e); }
+  // Processes this lane's events up to time t (key ≤ t) while the other lane does its own
+  // in another thread, and returns when both are done.
+  void lane_run(double t) {
+    LaneLink& l = *link_;
+    // Waits spin, yielding the core now and then: with more threads than free cores the
+    // lane being waited for must get to run.
+    unsigned waits = 0;
+    auto wait = [&waits] {
+      if (++waits % 64 == 0) std::this_thread::yield();
+      else LaneLink::spin();
+    };
+    for (;;) {
+      const EventOrder o = lane_next();
+      l.publish(me_, o);
+      l.taken(me_);
+      if (!(o.key <= t)) {
+        if (l.other_done(me_, t) && !l.mail_waiting(me_)) break;
+        wait();
+        continue;
+      }
+      if (edge_event(o.e)) {
+        if (!l.other_is_past(me_, o)) {
+          wait();
+          continue;
+        }
+        // Mail the other lane sent before it moved on may hold an earlier event.
+        if (l.mail_waiting(me_)) continue;
+      }
+      process(o.e);
+    }
+  }
+
 private:
   using Candidate = ScanCandidate;
 
+  // ---- the clock and the books: the state's own, or this lane's -----------------------
+  double now() const {
+    if constexpr (kLane) return books_.now;
+    else return s_.now();
+  }
+  double since_epoch() const {
+    if constexpr (kLane) return books_.now - s_.epoch();
+    else return s_.since_epoch();
+  }
+  Stats& stats() {
+    if constexpr (kLane) return books_.stats;
+    else return s_.stats;
+  }
+  void advance_clock(double t) {
+    if constexpr (kLane) books_.advance_clock(t);
+    else s_.advance_clock(t);
+  }
+  void assign_velocity(int i, double vx, double vy) { s_.assign_velocity(i, vx, vy, since_epoch()); }
+  void add_kinetic(double dk, double drot, double dpx, double dpy) {
+    if constexpr (kLane) books_.add_kinetic(dk, drot, dpx, dpy);
+    else s_.add_kinetic(dk, drot, dpx, dpy);
+  }
+  void add_kinetic_tensor(double m, double vx0, double vy0, double vx1, double vy1) {
+    if constexpr (kLane) books_.add_kinetic_tensor(m, vx0, vy0, vx1, vy1);
+    else s_.add_kinetic_tensor(m, vx0, vy0, vx1, vy1);
+  }
+  void add_virial(double rx, double ry, double jx, double jy) { ed::add_virial(stats(), rx, ry, jx, jy); }
+  // Entry e's event changed: into this loop's calendar, or (a lane, e in the other band)
+  // into the other lane's mail.
+  void reschedule(int e) {
+    if constexpr (kLane) {
+      const int to = owner(e);
+      if (to != me_) {
+        mine_[static_cast<std::size_t>(e)] = 0;  // a disk that crossed into the other band leaves
+        link_->send(to, e, s_.event[e].key);
+        return;
+      }
+    }
+    cal_.update(e);
+  }
+  // A lane's disks are those it took in (its band's when it started, and the mail since):
+  // its own record of them, since the other lane may be moving a disk it gave away.
+  bool owns(int e) const { return mine_[static_cast<std::size_t>(e)] != 0; }
+  int owner(int i) const { return link_->owner_of_row(s_.grid.iy(s_.grid.cell(i))); }
+  bool edge_row_of(int i) const { return link_->edge_row(s_.grid.iy(s_.grid.cell(i))); }
+  // Must this lane's event of disk i wait for the other lane? When i lies in an edge row,
+  // or its record names a partner (a pair event, or one held behind a crossing) that is
+  // not this lane's or lies in an edge row: everything such an event reads is then
+  // written by the other lane only in its edge events, which wait in turn. (A partner of
+  // this lane in an inner row is written by this lane alone; the other lane's disks in
+  // its inner rows are never read: see far_partner.)
+  bool edge_event(int i) const {
+    if (edge_row_of(i)) return true;
+    const NextEvent& ev = s_.event[i];
+    return ev.kind == EventKind::Pair && (!owns(ev.partner) || edge_row_of(ev.partner));
+  }
+  // A lane does not read a partner outside the 3×3 cells around disk i: such a pair cannot
+  // touch before one of them crosses a cell wall (cells are at least a diameter), so its
+  // event is stale, and a crossing rescans i's neighbourhood instead of re-timing it. This
+  // keeps the lane away from the other lane's inner rows, whose disks that lane may be
+  // changing at the time (their cell, which is read here, may be changing too, but only
+  // between rows that are all out of reach).
+  bool far_partner(int i, int j) const {
+    if constexpr (!kLane) return false;
+    const CellGrid& g = s_.grid;
+    const int ci = g.cell(i), cj = g.cell(j);
+    int dx = std::abs(g.ix(ci) - g.ix(cj)), dy = std::abs(g.iy(ci) - g.iy(cj));
+    if (g.periodic_x()) dx = std::min(dx, g.nx() - dx);
+    if (g.periodic_y()) dy = std::min(dy, g.ny() - dy);
+    return dx > 1 || dy > 1;
+  }
+
   void process(int e) {
-    ++s_.stats.events;
-    s_.advance_clock(s_.event[e].key);
-    s_.maybe_rebase();
+    ++stats().events;
+    advance_clock(s_.event[e].key);
+    if constexpr (!kLane) s_.maybe_rebase();  // the lanes' epoch moves only between their runs
     const int n = s_.size();
     // This event's own cells are fetched while its partner's counter is checked. (Hints for
     // the coming events, fetched in stages a few events ahead, were measured: with the
@@ -134,10 +283,10 @@ private:
       // while its counter is checked.
       __builtin_prefetch(&s_.disk[j]);
       s_.grid.prefetch_cell(j);
-      if (s_.counter[j] != s_.event[e].partner_count) {
-        ++s_.stats.stale;
+      if (far_partner(e, j) || s_.counter[j] != s_.event[e].partner_count) {
+        ++stats().stale;
         predict_full(e);
-        cal_.update(e);
+        reschedule(e);
       } else if (s_.frozen_count() > 0 && (s_.frozen(e) || s_.frozen(j))) {
         collide_frozen(e, j);
       } else {
@@ -172,8 +321,8 @@ private:
     const CollisionImpulse J = collision_impulse(rx, ry, a.vx - b.vx, a.vy - b.vy, r1, r2, w1, w2, m1, m2, *rule);
     const double avx = a.vx, avy = a.vy, bvx = b.vx, bvy = b.vy;  // before, for the books
     const double k0 = 0.5 * (m1 * (avx * avx + avy * avy) + m2 * (bvx * bvx + bvy * bvy));
-    s_.assign_velocity(i, avx + J.jx / m1, avy + J.jy / m1);
-    s_.assign_velocity(j, bvx - J.jx / m2, bvy - J.jy / m2);
+    assign_velocity(i, avx + J.jx / m1, avy + J.jy / m1);
+    assign_velocity(j, bvx - J.jx / m2, bvy - J.jy / m2);
     const double k1 = 0.5 * (m1 * (a.vx * a.vx + a.vy * a.vy) + m2 * (b.vx * b.vx + b.vy * b.vy));
     double drot = 0.0;
     if (J.dw1 != 0.0 || J.dw2 != 0.0) {  // rough disks only: plain is false
@@ -184,22 +333,22 @@ private:
       drot = 0.5 * (s_.inertia(i) * (ba.w * ba.w - w1 * w1) +
                     s_.inertia(j) * (bb.w * bb.w - w2 * w2));
     }
-    s_.add_kinetic(k1 - k0, drot, 0.0, 0.0);
-    s_.add_kinetic_tensor(m1, avx, avy, a.vx, a.vy);
-    s_.add_kinetic_tensor(m2, bvx, bvy, b.vx, b.vy);
-    s_.add_virial(rx, ry, J.jx, J.jy);
-    ++s_.stats.collisions;
-    if (J.sliding) ++s_.stats.sliding;
+    add_kinetic(k1 - k0, drot, 0.0, 0.0);
+    add_kinetic_tensor(m1, avx, avy, a.vx, a.vy);
+    add_kinetic_tensor(m2, bvx, bvy, b.vx, b.vy);
+    add_virial(rx, ry, J.jx, J.jy);
+    ++stats().collisions;
+    if (J.sliding) ++stats().sliding;
     ++s_.counter[i];
     ++s_.counter[j];
-    if (on_collision) on_collision(CollisionRecord{i, j, s_.now()});
+    if (on_collision) on_collision(CollisionRecord{i, j, now()});
     // A heap-based calendar must see each key change before the next one (an entry whose
     // key changed but is not yet re-sifted would mislead the other's sift).
     predict_parties(i, j);
   }
 
   void crossing(int i) {
-    ++s_.stats.cell_crossings;
+    ++stats().cell_crossings;
     CellGrid& g = s_.grid;
     Disk& d = s_.disk[i];
     const int from = g.cell(i);
@@ -216,7 +365,7 @@ private:
     g.insert(i, to);
     cal_.moved(i, from, to);
     const NextEvent& ev = s_.event[i];
-    if (ev.kind == EventKind::Pair && s_.counter[ev.partner] != ev.partner_count) {
+    if (ev.kind == EventKind::Pair && (far_partner(i, ev.partner) || s_.counter[ev.partner] != ev.partner_count)) {
       predict_full(i);  // the remembered partner changed: the old neighbourhood must be rescanned
     } else {
       // The best event in the old neighbourhood still holds; only the newly adjacent row of
@@ -261,7 +410,7 @@ private:
       scan_agents(i, to, best, who, kind);
       schedule(i, best, who, kind);
     }
-    cal_.update(i);
+    reschedule(i);
   }
 
   // The time from now to disk i's held pair or agent event (`kind` with `who`; disk i at
@@ -269,7 +418,7 @@ private:
   // again from the two records (a grazing pair that round-off now finds to miss is a miss);
   // an agent's was kept (SystemState::agent_time).
   double held_time(int i, const Disk& di, double ri, int c, int& who, EventKind& kind) const {
-    if (kind == EventKind::Agent) return s_.agent_time[i] - s_.now();
+    if (kind == EventKind::Agent) return s_.agent_time[i] - now();
     if (kind != EventKind::Pair) return kNever;
     const Candidate partner[1 + kScanPad] = {{who, 0}, {i, 0}, {i, 0}, {i, 0}};
     double shx, shy;
@@ -283,7 +432,7 @@ private:
   }
 
   void agent_event(int i, int a) {
-    ++s_.stats.agent_events;
+    ++stats().agent_events;
     s_.agents[a]->action(s_, i);
     settle_changes();
     if (s_.present(i)) {  // the action may have removed it (outlet)
@@ -295,12 +444,12 @@ private:
   }
 
   void timer_event(int a) {
-    ++s_.stats.timer_events;
+    ++stats().timer_events;
     TimerAgent& ag = *s_.timers[a];
     ag.action(s_);
     settle_changes();
     const int e = s_.size() + a;  // after settle_changes: the slots may have grown
-    s_.event[e].key = std::max(s_.now(), ag.event_time(s_));
+    s_.event[e].key = std::max(now(), ag.event_time(s_));
     cal_.update(e);
     repredict_touched(-1);
     reschedule_timers();
@@ -311,7 +460,7 @@ private:
     if (s_.rescheduled().empty()) [[likely]] return;
     for (int b : s_.rescheduled()) {
       const int e = s_.size() + b;
-      s_.event[e].key = std::max(s_.now(), s_.timers[b]->event_time(s_));
+      s_.event[e].key = std::max(now(), s_.timers[b]->event_time(s_));
       cal_.update(e);
     }
     s_.clear_rescheduled();
@@ -397,7 +546,7 @@ private:
                                                          bb.w, m, *rule);
       const double avx = a.vx, avy = a.vy;  // before, for the books
       const double k0 = 0.5 * m * (avx * avx + avy * avy);
-      s_.assign_velocity(i, avx + J.jx / m, avy + J.jy / m);
+      assign_velocity(i, avx + J.jx / m, avy + J.jy / m);
       const double k1 = 0.5 * m * (a.vx * a.vx + a.vy * a.vy);
       double drot = 0.0;
       if (J.dw1 != 0.0) {
@@ -405,24 +554,24 @@ private:
         ba.w += J.dw1;
         drot = 0.5 * s_.inertia(i) * (ba.w * ba.w - w1 * w1);
       }
-      s_.add_kinetic(k1 - k0, drot, J.jx, J.jy);  // the frozen disk absorbs −J
-      s_.add_kinetic_tensor(m, avx, avy, a.vx, a.vy);
-      s_.add_virial(rx, ry, J.jx, J.jy);
-      ++s_.stats.collisions;
-      if (J.sliding) ++s_.stats.sliding;
+      add_kinetic(k1 - k0, drot, J.jx, J.jy);  // the frozen disk absorbs −J
+      add_kinetic_tensor(m, avx, avy, a.vx, a.vy);
+      add_virial(rx, ry, J.jx, J.jy);
+      ++stats().collisions;
+      if (J.sliding) ++stats().sliding;
       ++s_.counter[i];
-      if (on_collision) on_collision(CollisionRecord{i, j, s_.now()});
+      if (on_collision) on_collision(CollisionRecord{i, j, now()});
     } else {
       // Two frozen disks only meet when agents froze them at different velocities: equal
       // (infinite) masses, smooth, elastic; outside the books.
       const CollisionImpulse J = collision_impulse(rx, ry, a.vx - b.vx, a.vy - b.vy, ba.r, bb.r, 0.0, 0.0, 1.0, 1.0,
                                                    CollisionParams{});
-      s_.assign_velocity(i, a.vx + J.jx, a.vy + J.jy);
-      s_.assign_velocity(j, b.vx - J.jx, b.vy - J.jy);
-      ++s_.stats.collisions;
+      assign_velocity(i, a.vx + J.jx, a.vy + J.jy);
+      assign_velocity(j, b.vx - J.jx, b.vy - J.jy);
+      ++stats().collisions;
       ++s_.counter[i];
       ++s_.counter[j];
-      if (on_collision) on_collision(CollisionRecord{i, j, s_.now()});
+      if (on_collision) on_collision(CollisionRecord{i, j, now()});
     }
     // j keeps its trajectory; its own event may have named i, so it is predicted again too.
     predict_full(i);
@@ -449,7 +598,7 @@ private:
   //   happens.
   TcVerdict tc_verdict(int i, int j, double r2, double sigma, bool j_frozen) {
     std::vector<double>& last = s_.tc_times();
-    const double now = s_.now();
+    const double now = this->now();
     const double ti = last[i], tj = j_frozen ? -kNever : last[j];
     const double dt = now - std::max(ti, tj);
     const bool elastic = dt < s_.tc.tau;
@@ -472,7 +621,7 @@ private:
   // The rule of a TC-elastic collision: the configured one with normal restitution 1 (the
   // tangential part, e_t and μ, as configured); counted in stats.tc_elastic.
   const CollisionParams& tc_elastic_rule() {
-    ++s_.stats.tc_elastic;
+    ++stats().tc_elastic;
     tc_rule_ = s_.rule;
     tc_rule_.e = 1.0;
     return tc_rule_;
@@ -543,7 +692,7 @@ private:
     // sum of radii is a constant and the bodies are not read.
     const Disk* __restrict disk = s_.disk.data();
     const DiskBody* __restrict body = s_.body.data();
-    const double since = s_.since_epoch();
+    const double since = since_epoch();
     const double ur = s_.uniform_radius();
     const bool mixed = !(ur > 0.0);
 #if defined(GRAINFLOW_ED_AVX2)
@@ -712,9 +861,9 @@ private:
   }
   void predict_parties(int i, int j) {
     predict_listed(i, party_[0].block, party_[0].cand.data(), party_[0].n);
-    cal_.update(i);
+    reschedule(i);
     predict_listed(j, party_[1].block, party_[1].cand.data(), party_[1].n);
-    cal_.update(j);
+    reschedule(j);
   }
 
   // Stores disk i's next event: its pair (or agent) event in `best` from now, with `who`
@@ -743,7 +892,7 @@ private:
     }
     const bool use_x = tx <= ty;
     const double t = std::max(0.0, use_x ? tx : ty);
-    const double pair_time = s_.now() + best, cross_time = s_.now() + t;
+    const double pair_time = now() + best, cross_time = now() + t;
     if (best == kNever) kind = EventKind::None;
     // Built in registers and stored whole: setting the bit fields in place would first
     // read the old record, a cache miss.
@@ -761,7 +910,7 @@ private:
   // Disk i's record with its position now instead of at the epoch.
   Disk now_record(int i) const {
     const Disk& d = s_.disk[i];
-    const double dt = s_.since_epoch();
+    const double dt = since_epoch();
     return Disk{d.x + d.vx * dt, d.y + d.vy * dt, d.vx, d.vy};
   }
   // r_i − r_j now, j seen from i's cell (minimum image by cell offsets): a collision's
@@ -786,6 +935,11 @@ private:
   };
   Party party_[2];
   CollisionParams tc_rule_;      // scratch of tc_elastic_rule
+  // A lane's own (kLane): its clock and books, the link to the other lane, its number.
+  LaneBooks books_;
+  LaneLink* link_ = nullptr;
+  int me_ = 0;
+  std::vector<std::uint8_t> mine_;  // owns()
 };
 
 }  // namespace grainflow::ed

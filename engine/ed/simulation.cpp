@@ -11,6 +11,7 @@
 #include "engine/ed/bucket_calendar.hpp"
 #include "engine/ed/cell_heap_calendar.hpp"
 #include "engine/ed/elastic_walls.hpp"
+#include "engine/ed/parallel_loop.hpp"
 
 namespace grainflow::ed {
 
@@ -114,7 +115,13 @@ void Simulation::build(std::vector<DiskInit> disks) {
   if (walls_x || !cfg_.periodic_y)
     s_.agents.push_back(std::make_unique<ElasticWalls>(cfg_.lx, cfg_.ly, walls_x, !cfg_.periodic_y,
                                                        cfg_.wall_restitution));
-  if (cfg_.calendar == CalendarKind::cell_heap)
+  if (cfg_.lanes == 2) {
+    if (cfg_.calendar != CalendarKind::bucket) throw Error("ed: two lanes run with the bucket calendar only");
+    loop_ = std::make_unique<ParallelLoop>(s_, cfg_.threads);
+  } else if (cfg_.lanes != 1 || cfg_.threads != 1) {
+    throw Error(fmt::format("ed: lanes = {}, threads = {}: allowed lanes 1 (threads 1) or 2 (threads 1 or 2)",
+                            cfg_.lanes, cfg_.threads));
+  } else if (cfg_.calendar == CalendarKind::cell_heap)
     loop_ = std::make_unique<EventLoop<CellHeapCalendar>>(s_);
   else
     loop_ = std::make_unique<EventLoop<BucketCalendar>>(s_);

@@ -55,6 +55,10 @@ struct Config {
   // calendar runs ≈ 25 % faster at 1.0σ (bench_ed --cell), so that is the default.
   double min_cell_size = 1.0;
   CalendarKind calendar = CalendarKind::bucket;
+  // lanes = 2: the periodic box (no agents, timers, frozen disks or TC model) in two bands
+  // of cell rows, each with its own calendar, run on `threads` threads (1 or 2; the same
+  // bits either way: ParallelLoop). lanes = 1: the one loop (threads must be 1).
+  int lanes = 1, threads = 1;
 };
 
 class Simulation {

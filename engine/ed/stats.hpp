@@ -34,6 +34,14 @@ struct Stats {
   double virial_xx = 0.0, virial_xy = 0.0, virial_yy = 0.0;
 };
 
+// A collision's virial, scalar and tensor (Stats::virial, virial_xx/xy/yy).
+inline void add_virial(Stats& s, double rx, double ry, double jx, double jy) {
+  s.virial += rx * jx + ry * jy;
+  s.virial_xx += rx * jx;
+  s.virial_xy += 0.5 * (rx * jy + ry * jx);
+  s.virial_yy += ry * jy;
+}
+
 // Observables derived from Stats over the measurement window (see simulation.hpp).
 struct Observables {
   double duration = 0.0;        // t − t0

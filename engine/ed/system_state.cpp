@@ -45,6 +45,34 @@ void SystemState::rebase() {
   epoch_ = now_;
 }
 
+void SystemState::absorb_lanes(double t, const LaneBooks* lanes, int n_lanes) {
+  advance_clock(t);
+  const int n = mobile_count();
+  for (int k = 0; k < n_lanes; ++k) {
+    const LaneBooks& l = lanes[k];
+    const Stats& d = l.stats;
+    stats.events += d.events;
+    stats.collisions += d.collisions;
+    stats.sliding += d.sliding;
+    stats.cell_crossings += d.cell_crossings;
+    stats.stale += d.stale;
+    stats.virial += d.virial;
+    stats.virial_xx += d.virial_xx;
+    stats.virial_xy += d.virial_xy;
+    stats.virial_yy += d.virial_yy;
+    if (n > 0) stats.kT_integral += (l.kin * t - l.kin_t) / n;
+    if (mtot_ > 0.0 && n > 0) {
+      stats.kinetic_integral_xx += l.kxx * t - l.kxx_t;
+      stats.kinetic_integral_xy += l.kxy * t - l.kxy_t;
+      stats.kinetic_integral_yy += l.kyy * t - l.kyy_t;
+    }
+    add_kinetic(l.kin, l.rot, l.px, l.py);
+    kxx_ += l.kxx;
+    kxy_ += l.kxy;
+    kyy_ += l.kyy;
+  }
+}
+
 void SystemState::note_body(const DiskBody& b) {
   // The first disk sets the value; one that differs turns it to 0 for good (mixed).
   if (uniform_r_ < 0.0) uniform_r_ = b.r;

@@ -71,6 +71,42 @@ struct TimeCutoff {
 // round-off of a contact (≈ 10^-14 σ).
 inline constexpr double kOverlapGap = 2e-9;
 
+// What one lane of the parallel loop (ParallelLoop) keeps while it runs on its own: its
+// clock, its counts and sums (as Stats, from zero), and the changes it made to the energy,
+// momentum and kinetic-tensor books, with their integrals over its time since it left
+// the state's clock (SystemState::absorb_lanes adds them up).
+struct LaneBooks {
+  double now = 0.0;
+  Stats stats;
+  double kin = 0.0, rot = 0.0, px = 0.0, py = 0.0, kxx = 0.0, kxy = 0.0, kyy = 0.0;
+  // Σ change × its time, so that ∫ change dt up to t is change·t − this whatever the order
+  // the lane took its events in (it may take an event the other lane sent it after later
+  // ones of its own that the event does not touch).
+  double kin_t = 0.0, kxx_t = 0.0, kxy_t = 0.0, kyy_t = 0.0;
+  void start(double t) {
+    *this = LaneBooks{};
+    now = t;
+  }
+  // The clock is the event's time, not the latest time seen (see kin_t).
+  void advance_clock(double t) { now = t; }
+  void add_kinetic(double dk, double drot, double dpx, double dpy) {
+    kin += dk;
+    kin_t += dk * now;
+    rot += drot;
+    px += dpx;
+    py += dpy;
+  }
+  void add_kinetic_tensor(double m, double vx0, double vy0, double vx1, double vy1) {
+    const double xx = m * (vx1 * vx1 - vx0 * vx0), xy = m * (vx1 * vy1 - vx0 * vy0), yy = m * (vy1 * vy1 - vy0 * vy0);
+    kxx += xx;
+    kxy += xy;
+    kyy += yy;
+    kxx_t += xx * now;
+    kxy_t += xy * now;
+    kyy_t += yy * now;
+  }
+};
+
 // A disk as an agent sees it at the current time (a copy: SystemState::disk_now).
 struct DiskNow {
   double x = 0.0, y = 0.0, vx = 0.0, vy = 0.0, r = 0.0, m = 0.0, w = 0.0;
@@ -229,9 +265,10 @@ public:
   // Gives disk i a new velocity from now on, its path continuous at now: the epoch position
   // moves by (v_old − v_new)(now − epoch). Books, counter and re-prediction are the caller's
   // (set_velocity does all of it).
-  void assign_velocity(int i, double vx, double vy) {
+  void assign_velocity(int i, double vx, double vy) { assign_velocity(i, vx, vy, now_ - epoch_); }
+  // The same at `dt` after the epoch (a lane of the parallel loop keeps its own clock).
+  void assign_velocity(int i, double vx, double vy, double dt) {
     Disk& d = disk[i];
-    const double dt = now_ - epoch_;
     d.x += (d.vx - vx) * dt;
     d.y += (d.vy - vy) * dt;
     d.vx = vx;
@@ -283,12 +320,7 @@ public:
     kyy_ += m * (vy1 * vy1 - vy0 * vy0);
   }
   // A collision's virial, scalar and tensor (Stats::virial, virial_xx/xy/yy).
-  void add_virial(double rx, double ry, double jx, double jy) {
-    stats.virial += rx * jx + ry * jy;
-    stats.virial_xx += rx * jx;
-    stats.virial_xy += 0.5 * (rx * jy + ry * jx);
-    stats.virial_yy += ry * jy;
-  }
+  void add_virial(double rx, double ry, double jx, double jy) { ed::add_virial(stats, rx, ry, jx, jy); }
   void add_kinetic(double dk, double drot, double dpx, double dpy) {
     kin_ += dk;
     rot_ += drot;
@@ -318,6 +350,12 @@ public:
       now_ = t;
     }
   }
+  // Takes in what the lanes of the parallel loop did since they left this state's clock: the clock moves to t (integrating kT at the books as they
+  // were, which the lanes did not change), then each lane's counts, sums, book changes and
+  // their time integrals are added. The total momentum changes only by round-off in the settings the lanes run
+  // (no walls, agents or frozen disks), so the momentum term of kT is integrated at its
+  // value when the lanes left.
+  void absorb_lanes(double t, const LaneBooks* lanes, int n_lanes);
   void reset_measurements() {
     stats.t0 = now_;
     stats.collisions0 = stats.collisions;

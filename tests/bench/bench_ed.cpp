@@ -2,12 +2,14 @@
 // core for the equilibrium periodic box at η = 0.65, kT = 0.02, for each calendar, after
 // an equilibration period; reports the median of the timed windows and memory per disk.
 // Usage: bench_ed [N ...] [--repeats R] [--per-disk C] [--calendar cell_heap|bucket] [--cell S]
-//                 [--order lattice|shuffled|cells] [--checkpoint]
+//                 [--order lattice|shuffled|cells] [--checkpoint] [--threads 1|2]
 // Memory: "hot B/disk" is what the event loop touches (Simulation::memory_parts), "B/disk"
 // everything; each size's breakdown by array follows its row.
 // --order: the disks' memory order for the timed windows — as the melted lattice left
 // it (default), shuffled at random (what an open stream's refilled slots tend to), or
 // renumbered in cell order (Simulation::reorder_disks(cell_order())).
+// --threads 2: the two-lane loop (Config::lanes = threads = 2) on two threads; "coll/s cpu"
+// then counts both threads' time.
 // --checkpoint: instead of the throughput, the size of a checkpoint of the equilibrated box
 // (Simulation::save_state, default N = 160000) and the median wall time of save_state and
 // of load_state (into a second simulation built the same way, construction not timed) over
@@ -31,8 +33,11 @@ namespace ed = grainflow::ed;
 
 namespace {
 
+int g_threads = 1;  // --threads
+
 ed::Config box(int n, ed::CalendarKind cal, double cell) {
   ed::Config c;
+  if (g_threads == 2) c.lanes = c.threads = 2;
   const double l = std::sqrt(n * std::numbers::pi / 4.0 / 0.65);
   c.lx = c.ly = l;
   c.n = n;
@@ -103,6 +108,7 @@ int main(int argc, char** argv) try {
     else if (s == "--calendar" && a + 1 < argc) cals = {ed::calendar_from_name(argv[++a])};
     else if (s == "--cell" && a + 1 < argc) cell = std::atof(argv[++a]);
     else if (s == "--checkpoint") checkpoint = true;
+    else if (s == "--threads" && a + 1 < argc) g_threads = std::atoi(argv[++a]);
     else if (s == "--order" && a + 1 < argc) {
       order = argv[++a];
       if (order != "lattice" && order != "shuffled" && order != "cells") {
@@ -143,7 +149,15 @@ int main(int argc, char** argv) try {
         const auto target = c0 + static_cast<std::uint64_t>(per_disk * n);
         const auto w0 = std::chrono::steady_clock::now();
         const std::clock_t k0 = std::clock();
-        while (sim.stats().collisions < target) sim.advance(100000);
+        if (g_threads == 2) {
+          // The two lanes run between stops in time: windows of the mean time that many
+          // collisions took so far.
+          const double per_time = double(sim.stats().collisions) / sim.time();
+          while (sim.stats().collisions < target)
+            sim.run_until(sim.time() + double(target - sim.stats().collisions) / per_time);
+        } else {
+          while (sim.stats().collisions < target) sim.advance(100000);
+        }
         const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - w0).count();
         const double cpu = double(std::clock() - k0) / CLOCKS_PER_SEC;
         rates.push_back((sim.stats().collisions - c0) / secs);

@@ -1,0 +1,211 @@
+// The ED event loop on two lanes (LaneLink): the box is cut into two bands of cell rows,
+// each lane runs the events of its band on its own clock and books, and edge events are
+// ordered between the lanes so that every disk sees the events it takes part in in the
+// order of one loop: the disks come out with the same bits whether the lanes run on two
+// threads or in their merged order on one (a conservative parallel discrete-event scheme;
+// cf. Miller & Luding, J. Comput. Phys. 193 (2004) 306, and Lubachevsky 1991).
+//
+// The lanes move the common epoch (SystemState::rebase) only between runs, at times the
+// loop fixes in advance (every rebase_period() events or so, from the rate of the last
+// period), never at an event count: so its bits differ from the one-lane loop's, which
+// rebases at counts, but not with the number of threads. The books (kinetic energy,
+// virial sums, kT integral) are summed per lane and added in lane order at each stop;
+// a lane may take an event the other lane sent it after later ones of its own that it
+// does not touch, so their sums may differ in the last bits between one and two threads
+// (the disks do not).
+//
+// For the periodic box without agents, timers, frozen disks or the TC model (the
+// equilibrium and cooling boxes); anything else is refused with an error.
+#pragma once
+#include <cmath>
+#include <memory>
+#include <string>
+#include <thread>
+
+#include "engine/core/error.hpp"
+#include "engine/ed/bucket_calendar.hpp"
+#include "engine/ed/event_loop.hpp"
+
+namespace grainflow::ed {
+
+class ParallelLoop final : public EventLoopBase {
+public:
+  using Lane = EventLoop<BucketCalendar, true>;
+  // threads: 2 runs the lanes at once, 1 in their merged order on this thread.
+  ParallelLoop(SystemState& s, int threads) : s_(s), threads_(threads) {
+    if (threads != 1 && threads != 2) throw Error("ed: the parallel loop runs on 1 or 2 threads, not " + std::to_string(threads));
+    for (int k = 0; k < LaneLink::kLanes; ++k) {
+      lane_[k] = std::make_unique<Lane>(s_);
+      lane_[k]->lane_attach(&link_, k);
+    }
+  }
+
+  void start() override {
+    check_supported();
+    link_.configure(s_.grid.ny(), s_.grid.periodic_y());
+    lane_[0]->lane_books().start(s_.now());
+    lane_[0]->lane_predict_all();
+    s_.clear_changes();
+    s_.clear_touched();
+    s_.clear_rescheduled();
+    fill();
+    // The first stop for a rebase: each disk's next event comes after about the mean time
+    // to it, so rebase_period() events take about that many mean times over the disks.
+    double sum = 0.0;
+    int n = 0;
+    for (int i = 0; i < s_.size(); ++i)
+      if (s_.present(i) && std::isfinite(s_.event[i].key)) {
+        sum += s_.event[i].key - s_.now();
+        ++n;
+      }
+    const double mean = n > 0 ? sum / n : 0.0;
+    period_ = n > 0 && mean > 0.0 ? mean * static_cast<double>(s_.rebase_period()) / n : kNever;
+    last_rebase_ = s_.now();
+    events_at_rebase_ = s_.stats.events;
+    next_rebase_ = s_.now() + period_;
+  }
+  void resume() override {
+    check_supported();
+    link_.configure(s_.grid.ny(), s_.grid.periodic_y());
+    fill();
+    if (!(next_rebase_ > s_.now())) start_period();
+  }
+
+  void run_until(double t) override { run_until(t, ~std::uint64_t{0}); }
+  // Stops at the first rebase stop after max_events events (the clock is then at that
+  // stop, not at an event): a run cut short still ends at a time both lanes reached.
+  bool run_until(double t, std::uint64_t max_events) override {
+    settle_outside_actions();
+    const std::uint64_t e0 = s_.stats.events;
+    for (;;) {
+      const double stop = std::min(t, next_rebase_);
+      run_lanes(stop);
+      if (stop == next_rebase_) rebase_stop();
+      if (stop >= t) return true;
+      if (s_.stats.events - e0 >= max_events) return false;
+    }
+  }
+  // Exactly n events, in the merged order on this thread.
+  std::uint64_t advance(std::uint64_t n) override {
+    settle_outside_actions();
+    start_lanes();
+    std::uint64_t k = 0;
+    double last = s_.now();
+    while (k < n) {
+      const auto [o, lane] = merged_next();
+      if (o.e < 0) break;
+      if (o.key > next_rebase_) {
+        finish_lanes(next_rebase_);
+        rebase_stop();
+        start_lanes();
+        last = s_.now();
+        continue;
+      }
+      lane_[lane]->lane_process(o.e);
+      last = o.key;
+      ++k;
+    }
+    finish_lanes(last);
+    return k;
+  }
+  double next_event_time() override {
+    start_lanes();
+    const double t = merged_next().first.key;
+    finish_lanes(s_.now());
+    return std::isfinite(t) ? t : kNever;
+  }
+  std::size_t calendar_bytes() const override { return lane_[0]->calendar_bytes() + lane_[1]->calendar_bytes(); }
+  const char* calendar_name() const override { return BucketCalendar::kName; }
+  int threads() const { return threads_; }
+
+private:
+  void check_supported() const {
+    std::string why;
+    if (!s_.agents.empty()) why = "agents (walls, an obstacle, stream boundaries)";
+    else if (!s_.timers.empty()) why = "timers (samplers, a thermostat, phases)";
+    else if (s_.frozen_count() > 0) why = "frozen disks";
+    else if (s_.tc_on()) why = "the TC model";
+    else if (!s_.grid.periodic_x() || !s_.grid.periodic_y()) why = "a non-periodic axis";
+    else if (s_.grid.ny() < LaneLink::kMinRows)
+      why = "fewer than " + std::to_string(LaneLink::kMinRows) + " rows of cells";
+    if (!why.empty())
+      throw Error("ed: the two-lane loop (threads = 2) runs the periodic box only; this system has " + why +
+                  "; run it with threads = 1");
+    if (on_collision) throw Error("ed: the two-lane loop does not trace collisions; run with threads = 1");
+  }
+  void fill() {
+    for (auto& l : lane_) l->lane_fill();
+  }
+  // Disks changed from outside between runs (set_velocity): predicted again, calendars refilled.
+  void settle_outside_actions() {
+    if (!s_.added().empty() || !s_.removed().empty() || s_.grown() || !s_.rescheduled().empty())
+      throw Error("ed: the two-lane loop does not take disks added or removed between runs");
+    if (s_.touched().empty()) return;
+    s_.clear_touched();
+    lane_[0]->lane_books().start(s_.now());
+    lane_[0]->lane_predict_all();
+    fill();
+  }
+
+  void start_lanes() {
+    for (auto& l : lane_) l->lane_books().start(s_.now());
+  }
+  void finish_lanes(double t) {
+    LaneBooks books[LaneLink::kLanes];
+    for (int k = 0; k < LaneLink::kLanes; ++k) books[k] = lane_[k]->lane_books();
+    s_.absorb_lanes(t, books, LaneLink::kLanes);
+  }
+  // The earlier of the lanes' next events, and its lane (the mail each lane has is taken in).
+  std::pair<EventOrder, int> merged_next() {
+    EventOrder o[LaneLink::kLanes];
+    for (int k = 0; k < LaneLink::kLanes; ++k) {
+      o[k] = lane_[k]->lane_next();
+      link_.taken(k);
+    }
+    return o[1] < o[0] ? std::pair{o[1], 1} : std::pair{o[0], 0};
+  }
+  // Every event up to t (key ≤ t), then the clocks and books at t.
+  void run_lanes(double t) {
+    start_lanes();
+    if (threads_ == 2) {
+      // Each lane's next event is published before either starts: a lane judges its edge
+      // events by what the other has published, which must never be later than its next.
+      for (int k = 0; k < LaneLink::kLanes; ++k) {
+        link_.publish(k, lane_[k]->lane_next());
+        link_.taken(k);
+      }
+      std::thread other([this, t] { lane_[1]->lane_run(t); });
+      lane_[0]->lane_run(t);
+      other.join();
+    } else {
+      for (;;) {
+        const auto [o, lane] = merged_next();
+        if (!(o.key <= t)) break;
+        lane_[lane]->lane_process(o.e);
+      }
+    }
+    finish_lanes(t);
+  }
+  // At a rebase stop (the clock at next_rebase_): the epoch moves to now, and the next stop
+  // comes after rebase_period() events at the rate of the last period.
+  void rebase_stop() {
+    s_.rebase();
+    const std::uint64_t done = s_.stats.events - events_at_rebase_;
+    if (done > 0) period_ = (s_.now() - last_rebase_) * static_cast<double>(s_.rebase_period()) / static_cast<double>(done);
+    start_period();
+  }
+  void start_period() {
+    last_rebase_ = s_.now();
+    events_at_rebase_ = s_.stats.events;
+    next_rebase_ = std::isfinite(period_) && period_ > 0.0 ? s_.now() + period_ : kNever;
+  }
+
+  SystemState& s_;
+  int threads_;
+  LaneLink link_;
+  std::unique_ptr<Lane> lane_[LaneLink::kLanes];
+  double period_ = kNever, last_rebase_ = 0.0, next_rebase_ = kNever;
+  std::uint64_t events_at_rebase_ = 0;
+};
+
+}  // namespace grainflow::ed
