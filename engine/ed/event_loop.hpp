@@ -63,9 +63,7 @@ public:
   void start() override {
     const int n = s_.size();
     const int nt = static_cast<int>(s_.timers.size());
-    s_.reset_events(n, nt);
-    for (int i = 0; i < n; ++i)
-      if (s_.present(i)) predict_full(i);
+    predict_all(nt);
     s_.clear_changes();
     s_.clear_touched();
     s_.clear_rescheduled();  // every timer is asked below
@@ -134,11 +132,7 @@ public:
     cal_.reset(s_.calendar_keys(), &s_.grid, s_.size(), 0, [this](int e) { return owns(e); });
   }
   // Predicts every disk present on this lane's clock (the records only; lane_fill then).
-  void lane_predict_all() {
-    s_.reset_events(s_.size(), 0);
-    for (int i = 0; i < s_.size(); ++i)
-      if (s_.present(i)) predict_full(i);
-  }
+  void lane_predict_all() { predict_all(0); }
   // This lane's next event: the mail is taken in first, and copies of entries that now
   // belong to the other lane are dropped.
   EventOrder lane_next() {
@@ -827,6 +821,13 @@ private:
     }
   }
 
+  // Every disk present predicted afresh, with event records for them and n_timers timers
+  // (the timers' unscheduled).
+  void predict_all(int n_timers) {
+    s_.reset_events(s_.size(), n_timers);
+    for (int i = 0; i < s_.size(); ++i)
+      if (s_.present(i)) predict_full(i);
+  }
   // Full prediction for disk i over its 3×3 neighbourhood (§2.2) and its cell's agents.
   void predict_full(int i) {
     Block b;

@@ -83,12 +83,11 @@ public:
   // publishes its next event and calls taken(to) (in that order: the sender's check reads
   // the taken mark, then the published event).
   template <class F>
-  std::uint64_t take(int to, F&& f) {
+  void take(int to, F&& f) {
     Mailbox& m = box_[to];
     const std::uint64_t h = m.head.load(std::memory_order_acquire);
     for (std::uint64_t k = m.read; k < h; ++k) f(m.item[k % kMailbox].e);
     m.read = h;
-    return h;
   }
   void taken(int to) { box_[to].tail.store(box_[to].read, std::memory_order_release); }
   bool mail_waiting(int to) const {

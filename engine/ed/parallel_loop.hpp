@@ -109,9 +109,7 @@ public:
     return k;
   }
   double next_event_time() override {
-    start_lanes();
     const double t = merged_next().first.key;
-    finish_lanes(s_.now());
     return std::isfinite(t) ? t : kNever;
   }
   std::size_t calendar_bytes() const override { return lane_[0]->calendar_bytes() + lane_[1]->calendar_bytes(); }

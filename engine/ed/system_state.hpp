@@ -71,6 +71,15 @@ struct TimeCutoff {
 // round-off of a contact (≈ 10^-14 σ).
 inline constexpr double kOverlapGap = 2e-9;
 
+// How Σ m v_a v_b (xx, xy, yy) changes when a disk of mass m goes from (vx0, vy0) to
+// (vx1, vy1): the kinetic-tensor books' step (SystemState, LaneBooks).
+struct TensorStep {
+  double xx, xy, yy;
+};
+inline TensorStep kinetic_tensor_step(double m, double vx0, double vy0, double vx1, double vy1) {
+  return {m * (vx1 * vx1 - vx0 * vx0), m * (vx1 * vy1 - vx0 * vy0), m * (vy1 * vy1 - vy0 * vy0)};
+}
+
 // What one lane of the parallel loop (ParallelLoop) keeps while it runs on its own: its
 // clock, its counts and sums (as Stats, from zero), and the changes it made to the energy,
 // momentum and kinetic-tensor books, with their integrals over its time since it left
@@ -97,13 +106,13 @@ struct LaneBooks {
     py += dpy;
   }
   void add_kinetic_tensor(double m, double vx0, double vy0, double vx1, double vy1) {
-    const double xx = m * (vx1 * vx1 - vx0 * vx0), xy = m * (vx1 * vy1 - vx0 * vy0), yy = m * (vy1 * vy1 - vy0 * vy0);
-    kxx += xx;
-    kxy += xy;
-    kyy += yy;
-    kxx_t += xx * now;
-    kxy_t += xy * now;
-    kyy_t += yy * now;
+    const TensorStep d = kinetic_tensor_step(m, vx0, vy0, vx1, vy1);
+    kxx += d.xx;
+    kxy += d.xy;
+    kyy += d.yy;
+    kxx_t += d.xx * now;
+    kxy_t += d.xy * now;
+    kyy_t += d.yy * now;
   }
 };
 
@@ -315,9 +324,10 @@ public:
   std::array<double, 3> kinetic_tensor() const { return {kxx_, kxy_, kyy_}; }
   // The tensor book's change when a mobile disk of mass m goes from (vx0, vy0) to (vx1, vy1).
   void add_kinetic_tensor(double m, double vx0, double vy0, double vx1, double vy1) {
-    kxx_ += m * (vx1 * vx1 - vx0 * vx0);
-    kxy_ += m * (vx1 * vy1 - vx0 * vy0);
-    kyy_ += m * (vy1 * vy1 - vy0 * vy0);
+    const TensorStep d = kinetic_tensor_step(m, vx0, vy0, vx1, vy1);
+    kxx_ += d.xx;
+    kxy_ += d.xy;
+    kyy_ += d.yy;
   }
   // A collision's virial, scalar and tensor (Stats::virial, virial_xx/xy/yy).
   void add_virial(double rx, double ry, double jx, double jy) { ed::add_virial(stats, rx, ry, jx, jy); }

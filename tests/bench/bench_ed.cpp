@@ -20,13 +20,13 @@
 #include <cstdio>
 #include <cstdlib>
 #include <ctime>
-#include <numbers>
 #include <random>
 #include <string>
 #include <vector>
 
 #include "engine/core/error.hpp"
 #include "engine/ed/simulation.hpp"
+#include "tests/ed/periodic_box.hpp"
 #include "engine/io/archive.hpp"
 
 namespace ed = grainflow::ed;
@@ -36,13 +36,8 @@ namespace {
 int g_threads = 1;  // --threads
 
 ed::Config box(int n, ed::CalendarKind cal, double cell) {
-  ed::Config c;
+  ed::Config c = ed::test::periodic_box(n, 0.65, 1);
   if (g_threads == 2) c.lanes = c.threads = 2;
-  const double l = std::sqrt(n * std::numbers::pi / 4.0 / 0.65);
-  c.lx = c.ly = l;
-  c.n = n;
-  c.kT = 0.02;
-  c.seed = 1;
   c.calendar = cal;
   c.min_cell_size = cell;
   return c;

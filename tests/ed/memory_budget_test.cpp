@@ -5,22 +5,17 @@
 // box never reads counted as cold.
 #include <gtest/gtest.h>
 
-#include <cmath>
-#include <numbers>
 #include <set>
 #include <string>
 
 #include "engine/ed/simulation.hpp"
+#include "tests/ed/periodic_box.hpp"
 
 namespace ed = grainflow::ed;
 
 TEST(EdMemory, PlainBoxTouchesAtMostEightyBytesPerDisk) {
   const int n = 40000;
-  ed::Config c;
-  c.lx = c.ly = std::sqrt(n * std::numbers::pi / 4.0 / 0.65);  // η = 0.65
-  c.n = n;
-  c.kT = 0.02;
-  c.seed = 3;
+  ed::Config c = ed::test::periodic_box(n, 0.65, 3);
   c.calendar = ed::CalendarKind::bucket;
   ed::Simulation sim(c);
   // Melting the lattice and 20 collisions a disk more: each entry's window spans about

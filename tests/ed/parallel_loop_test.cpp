@@ -4,21 +4,17 @@
 
 #include <cmath>
 #include <cstring>
-#include <numbers>
 
 #include "engine/core/error.hpp"
 #include "engine/ed/simulation.hpp"
+#include "tests/ed/periodic_box.hpp"
 
 namespace ed = grainflow::ed;
 
 namespace {
 
 ed::Config box(int n, int lanes, int threads, double eta = 0.65) {
-  ed::Config c;
-  c.lx = c.ly = std::sqrt(n * std::numbers::pi / 4.0 / eta);
-  c.n = n;
-  c.kT = 0.02;
-  c.seed = 5;
+  ed::Config c = ed::test::periodic_box(n, eta, 5);
   c.lanes = lanes;
   c.threads = threads;
   return c;

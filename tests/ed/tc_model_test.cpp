@@ -10,13 +10,13 @@
 #include <cstdio>
 #include <cstring>
 #include <limits>
-#include <numbers>
 #include <vector>
 
 #include <gtest/gtest.h>
 
 #include "engine/core/error.hpp"
 #include "engine/ed/simulation.hpp"
+#include "tests/ed/periodic_box.hpp"
 
 namespace ed = grainflow::ed;
 
@@ -29,16 +29,6 @@ ed::DiskInit disk_at(double x, double y, double vx, double vy) {
   d.r = {x, y};
   d.v = {vx, vy};
   return d;
-}
-
-// A periodic box at area fraction eta with n disks (the seed's reference state at kT).
-ed::Config box(int n, double eta, std::uint64_t seed) {
-  ed::Config c;
-  c.n = n;
-  c.lx = c.ly = std::sqrt(n * std::numbers::pi / 4.0 / eta);
-  c.kT = 0.02;
-  c.seed = seed;
-  return c;
 }
 
 // One collision as the observer saw it: its energy change and the normal relative speed
@@ -140,7 +130,7 @@ TEST(TcModel, AFrozenDiskIsAWallToTheCutoff) {
 // less than τ ago — both the firing entry and its partner being that party occur —, else
 // ΔE = −(1 − e²)/4 · v_n² and v_n' = −e v_n.
 TEST(TcModel, EveryCollisionOfADenseBoxFollowsTheRule) {
-  ed::Config c = box(745, 0.65, 11);
+  ed::Config c = ed::test::periodic_box(745, 0.65, 11);
   c.e = 0.6;
   c.tau_tc = 0.05;  // ≈ 0.1 mean free time: many TC-elastic collisions
   ed::Simulation sim(c);
@@ -196,7 +186,7 @@ TEST(TcModel, EveryCollisionOfADenseBoxFollowsTheRule) {
 // Elastic runs never read or write the TC state: a cutoff configured with e = 1 leaves
 // every bit as without it, and the last-collision array is never allocated.
 TEST(TcModel, ElasticRunsAreUntouched) {
-  ed::Config c = box(745, 0.65, 4);
+  ed::Config c = ed::test::periodic_box(745, 0.65, 4);
   ed::Simulation plain(c);
   c.tau_tc = 0.1;
   c.tau_tc_step = 0.01;
@@ -321,7 +311,7 @@ TEST(TcModel, ACollapseRemovesTheOffenderRaisesTheCutoffAndTheRunGoesOn) {
 // within the event budget.
 TEST(TcModel, InelasticBoxesWithTheCutoffKeepAdvancing) {
   for (double e : {0.5, 0.87}) {
-    ed::Config c = box(2000, 0.65, 8);
+    ed::Config c = ed::test::periodic_box(2000, 0.65, 8);
     c.e = e;
     c.tau_tc = 1e-4;
     ed::Simulation sim(c);
@@ -355,7 +345,7 @@ TEST(TcModel, InelasticBoxesWithTheCutoffKeepAdvancing) {
 // within 5 %; later times are printed (clustering makes the gas cool more slowly).
 TEST(TcModel, HomogeneousCoolingFollowsHaffsLaw) {
   for (double r : {0.97, 0.87}) {
-    ed::Config c = box(16384, 0.65, 5);
+    ed::Config c = ed::test::periodic_box(16384, 0.65, 5);
     ed::Simulation sim(c);
     sim.run_until(10.0);  // melt the lattice, ≈ 20 collisions per disk
     sim.reset_measurements();
@@ -390,7 +380,7 @@ TEST(TcModel, HomogeneousCoolingFollowsHaffsLaw) {
 }
 
 TEST(TcModel, RuntimeSettersCheckTheirValues) {
-  ed::Config c = box(200, 0.5, 1);
+  ed::Config c = ed::test::periodic_box(200, 0.5, 1);
   ed::Simulation sim(c);
   EXPECT_THROW(sim.set_restitution(1.5), grainflow::Error);
   EXPECT_THROW(sim.set_restitution(-0.1), grainflow::Error);
