@@ -128,14 +128,16 @@ private:
       why = "fewer than " + std::to_string(LaneLink::kMinRows) + " rows of cells";
     if (!why.empty())
       throw Error("ed: the two-lane loop (threads = 2) runs the periodic box only; this system has " + why +
-                  "; run it with threads = 1");
-    if (on_collision) throw Error("ed: the two-lane loop does not trace collisions; run with threads = 1");
+                  "; run it with lanes = threads = 1");
   }
   void fill() {
     for (auto& l : lane_) l->lane_fill();
   }
-  // Disks changed from outside between runs (set_velocity): predicted again, calendars refilled.
+  // Disks changed from outside between runs (set_velocity): predicted again, calendars
+  // refilled. An observer of collisions (set after the start) is refused here, before any
+  // event: the lanes would not call it.
   void settle_outside_actions() {
+    if (on_collision) throw Error("ed: the two-lane loop does not trace collisions; run with lanes = threads = 1");
     if (!s_.added().empty() || !s_.removed().empty() || s_.grown() || !s_.rescheduled().empty())
       throw Error("ed: the two-lane loop does not take disks added or removed between runs");
     if (s_.touched().empty()) return;

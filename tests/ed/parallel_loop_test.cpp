@@ -90,4 +90,9 @@ TEST(EdParallelLoop, RefusesWhatItDoesNotRun) {
   EXPECT_THROW(ed::Simulation{three}, grainflow::Error);
   ed::Config one_lane_two_threads = box(20000, 1, 2);
   EXPECT_THROW(ed::Simulation{one_lane_two_threads}, grainflow::Error);
+  // A collision observer would never be called: refused at the next run.
+  ed::Simulation traced(box(20000, 2, 2));
+  traced.set_collision_observer([](const ed::CollisionRecord&) {});
+  EXPECT_THROW(traced.run_until(1.0), grainflow::Error);
+  EXPECT_THROW(traced.advance(10), grainflow::Error);
 }
