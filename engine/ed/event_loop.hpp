@@ -132,7 +132,10 @@ public:
     cal_.reset(s_.calendar_keys(), &s_.grid, s_.size(), 0, [this](int e) { return owns(e); });
   }
   // Predicts every disk present on this lane's clock (the records only; lane_fill then).
-  void lane_predict_all() { predict_all(0); }
+  // Every disk (the records only; lane_fill then), with unscheduled records for n_timers.
+  void lane_predict_all(int n_timers) { predict_all(n_timers); }
+  // Disk i predicted afresh on this lane's clock (the record only; lane_fill then).
+  void lane_predict(int i) { predict_full(i); }
   // This lane's next event: the mail is taken in first, and copies of entries that now
   // belong to the other lane are dropped.
   EventOrder lane_next() {

@@ -6,17 +6,20 @@
 // cf. Miller & Luding, J. Comput. Phys. 193 (2004) 306, and Lubachevsky 1991).
 //
 // The lanes move the common epoch (SystemState::rebase) only between runs, at times the
-// loop fixes in advance (every rebase_period() events or so, from the rate of the last
-// period), never at an event count: so its bits differ from the one-lane loop's, which
-// rebases at counts, but not with the number of threads. The books (kinetic energy,
+// loop fixes in advance (about rebase_period() events after the epoch, at the rate the
+// event records give), never at an event count: so its bits differ from the one-lane
+// loop's, which rebases at counts, but not with the number of threads, nor with a
+// checkpoint taken between runs (the records are in it). The books (kinetic energy,
 // virial sums, kT integral) are summed per lane and added in lane order at each stop;
 // a lane may take an event the other lane sent it after later ones of its own that it
 // does not touch, so their sums may differ in the last bits between one and two threads
 // (the disks do not).
 //
-// For the periodic box without agents, timers, frozen disks or the TC model (the
-// equilibrium and cooling boxes); anything else is refused with an error.
+// For the periodic box without agents, frozen disks, open boundaries or the TC model (the
+// equilibrium and cooling boxes, with samplers, thermostats and phases, which act at stops
+// between the lanes' runs); anything else is refused with an error.
 #pragma once
+#include <algorithm>
 #include <cmath>
 #include <memory>
 #include <string>
@@ -43,43 +46,36 @@ public:
   void start() override {
     check_supported();
     link_.configure(s_.grid.ny(), s_.grid.periodic_y());
+    const int n = s_.size(), nt = static_cast<int>(s_.timers.size());
     lane_[0]->lane_books().start(s_.now());
-    lane_[0]->lane_predict_all();
+    lane_[0]->lane_predict_all(nt);
     s_.clear_changes();
     s_.clear_touched();
-    s_.clear_rescheduled();
+    s_.clear_rescheduled();  // every timer is asked below
+    for (int a = 0; a < nt; ++a) s_.event[n + a].key = std::max(s_.now(), s_.timers[a]->event_time(s_));
     fill();
-    // The first stop for a rebase: each disk's next event comes after about the mean time
-    // to it, so rebase_period() events take about that many mean times over the disks.
-    double sum = 0.0;
-    int n = 0;
-    for (int i = 0; i < s_.size(); ++i)
-      if (s_.present(i) && std::isfinite(s_.event[i].key)) {
-        sum += s_.event[i].key - s_.now();
-        ++n;
-      }
-    const double mean = n > 0 ? sum / n : 0.0;
-    period_ = n > 0 && mean > 0.0 ? mean * static_cast<double>(s_.rebase_period()) / n : kNever;
-    last_rebase_ = s_.now();
-    events_at_rebase_ = s_.stats.events;
-    next_rebase_ = s_.now() + period_;
   }
   void resume() override {
     check_supported();
     link_.configure(s_.grid.ny(), s_.grid.periodic_y());
     fill();
-    if (!(next_rebase_ > s_.now())) start_period();
   }
 
   void run_until(double t) override { run_until(t, ~std::uint64_t{0}); }
   // Stops at the first rebase stop after max_events events (the clock is then at that
   // stop, not at an event): a run cut short still ends at a time both lanes reached.
+  // Timers run at stops too: the lanes do every disk event up to a timer's time (a timer
+  // comes after the disks' events of its time, as in one loop), then it acts on the state
+  // at rest.
   bool run_until(double t, std::uint64_t max_events) override {
     settle_outside_actions();
+    plan_rebase();
     const std::uint64_t e0 = s_.stats.events;
     for (;;) {
-      const double stop = std::min(t, next_rebase_);
+      const EventOrder timer = next_timer();
+      const double stop = std::min({t, next_rebase_, timer.key});
       run_lanes(stop);
+      if (timer.key == stop) run_timers(stop);
       if (stop == next_rebase_) rebase_stop();
       if (stop >= t) return true;
       if (s_.stats.events - e0 >= max_events) return false;
@@ -88,11 +84,14 @@ public:
   // Exactly n events, in the merged order on this thread.
   std::uint64_t advance(std::uint64_t n) override {
     settle_outside_actions();
+    plan_rebase();
     start_lanes();
     std::uint64_t k = 0;
     double last = s_.now();
     while (k < n) {
-      const auto [o, lane] = merged_next();
+      const auto [disk, lane] = merged_next();
+      const EventOrder timer = next_timer();
+      const EventOrder o = timer < disk ? timer : disk;
       if (o.e < 0) break;
       if (o.key > next_rebase_) {
         finish_lanes(next_rebase_);
@@ -101,7 +100,13 @@ public:
         last = s_.now();
         continue;
       }
-      lane_[lane]->lane_process(o.e);
+      if (o.e == timer.e) {
+        finish_lanes(o.key);
+        timer_event(o.e - s_.size());
+        start_lanes();
+      } else {
+        lane_[lane]->lane_process(o.e);
+      }
       last = o.key;
       ++k;
     }
@@ -109,7 +114,8 @@ public:
     return k;
   }
   double next_event_time() override {
-    const double t = merged_next().first.key;
+    const EventOrder disk = merged_next().first, timer = next_timer();
+    const double t = std::min(disk.key, timer.key);
     return std::isfinite(t) ? t : kNever;
   }
   std::size_t calendar_bytes() const override { return lane_[0]->calendar_bytes() + lane_[1]->calendar_bytes(); }
@@ -120,7 +126,6 @@ private:
   void check_supported() const {
     std::string why;
     if (!s_.agents.empty()) why = "agents (walls, an obstacle, stream boundaries)";
-    else if (!s_.timers.empty()) why = "timers (samplers, a thermostat, phases)";
     else if (s_.frozen_count() > 0) why = "frozen disks";
     else if (s_.tc_on()) why = "the TC model";
     else if (!s_.grid.periodic_x() || !s_.grid.periodic_y()) why = "a non-periodic axis";
@@ -133,18 +138,52 @@ private:
   void fill() {
     for (auto& l : lane_) l->lane_fill();
   }
-  // Disks changed from outside between runs (set_velocity): predicted again, calendars
-  // refilled. An observer of collisions (set after the start) is refused here, before any
-  // event: the lanes would not call it.
+  // What was changed between runs (set_velocity, a timer switched): settled as after a
+  // timer's action. An observer of collisions (set after the start) is refused here, before
+  // any event: the lanes would not call it.
   void settle_outside_actions() {
     if (on_collision) throw Error("ed: the two-lane loop does not trace collisions; run with lanes = threads = 1");
-    if (!s_.added().empty() || !s_.removed().empty() || s_.grown() || !s_.rescheduled().empty())
-      throw Error("ed: the two-lane loop does not take disks added or removed between runs");
+    settle();
+  }
+  // Disks whose velocity an action changed (SystemState::touched) are predicted again (and
+  // the calendars refilled), timers it switched (SystemState::reschedule) asked again. Disks
+  // added, removed or frozen, and the TC model switched on (a phase), are refused.
+  void settle() {
+    if (!s_.added().empty() || !s_.removed().empty() || s_.grown() || s_.frozen_count() > 0 || s_.tc_on())
+      throw Error("ed: the two-lane loop does not take disks added, removed or frozen, nor the TC model; run with "
+                  "lanes = threads = 1");
+    const int n = s_.size();
+    for (int b : s_.rescheduled()) s_.event[n + b].key = std::max(s_.now(), s_.timers[b]->event_time(s_));
+    s_.clear_rescheduled();
     if (s_.touched().empty()) return;
-    s_.clear_touched();
     lane_[0]->lane_books().start(s_.now());
-    lane_[0]->lane_predict_all();
+    for (int j : s_.touched())
+      if (s_.present(j)) lane_[0]->lane_predict(j);
+    s_.clear_touched();
     fill();
+  }
+
+  // The earliest timer event (key, entry), or none.
+  EventOrder next_timer() const {
+    EventOrder o;
+    const int n = s_.size();
+    for (int a = 0; a < static_cast<int>(s_.timers.size()); ++a) {
+      const EventOrder c{s_.event[n + a].key, n + a};
+      if (c < o) o = c;
+    }
+    return o;
+  }
+  // Every timer due at t (the clock is at t, the lanes at rest), in the loop's order.
+  void run_timers(double t) {
+    for (EventOrder o = next_timer(); o.key <= t; o = next_timer()) timer_event(o.e - s_.size());
+  }
+  void timer_event(int a) {
+    ++s_.stats.events;
+    ++s_.stats.timer_events;
+    TimerAgent& ag = *s_.timers[a];
+    ag.action(s_);
+    s_.event[s_.size() + a].key = std::max(s_.now(), ag.event_time(s_));
+    settle();
   }
 
   void start_lanes() {
@@ -186,26 +225,33 @@ private:
     }
     finish_lanes(t);
   }
-  // At a rebase stop (the clock at next_rebase_): the epoch moves to now, and the next stop
-  // comes after rebase_period() events at the rate of the last period.
+  // At a rebase stop (the clock at next_rebase_): the epoch moves to now, and the next
+  // stop is planned.
   void rebase_stop() {
     s_.rebase();
-    const std::uint64_t done = s_.stats.events - events_at_rebase_;
-    if (done > 0) period_ = (s_.now() - last_rebase_) * static_cast<double>(s_.rebase_period()) / static_cast<double>(done);
-    start_period();
+    plan_rebase();
   }
-  void start_period() {
-    last_rebase_ = s_.now();
-    events_at_rebase_ = s_.stats.events;
-    next_rebase_ = std::isfinite(period_) && period_ > 0.0 ? s_.now() + period_ : kNever;
+  // The next rebase stop: rebase_period() events after the epoch, at the rate the event
+  // records give (each disk's next event comes after about the mean time to it). Derived
+  // from the state alone, at the start of each run and at each stop, so that a run resumed
+  // from a checkpoint plans the stops the uninterrupted one does.
+  void plan_rebase() {
+    double sum = 0.0;
+    int n = 0;
+    for (int i = 0; i < s_.size(); ++i)
+      if (s_.present(i) && std::isfinite(s_.event[i].key)) {
+        sum += s_.event[i].key - s_.now();
+        ++n;
+      }
+    const double period = n > 0 ? sum / n * static_cast<double>(s_.rebase_period()) / n : 0.0;
+    next_rebase_ = period > 0.0 && std::isfinite(period) ? std::max(s_.now(), s_.epoch() + period) : kNever;
   }
 
   SystemState& s_;
   int threads_;
   LaneLink link_;
   std::unique_ptr<Lane> lane_[LaneLink::kLanes];
-  double period_ = kNever, last_rebase_ = 0.0, next_rebase_ = kNever;
-  std::uint64_t events_at_rebase_ = 0;
+  double next_rebase_ = kNever;  // plan_rebase
 };
 
 }  // namespace grainflow::ed
