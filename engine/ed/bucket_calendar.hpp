@@ -112,6 +112,10 @@ public:
     }
   }
 
+  // The key of the copy top() returned: what the calendar ordered it by. (A lane of the
+  // parallel loop must not read the entry's record again: the other lane may have just
+  // re-scheduled that disk, and a later key would claim events not yet processed.)
+  double top_key() const { return heap_[0].key; }
   // Leaves out the copy top() returned (a lane's copy of an entry the other lane now owns).
   void drop_top() { heap_pop(); }
   double bucket_width() const { return dt_; }

@@ -146,7 +146,7 @@ public:
     for (;;) {
       const int e = cal_.top();
       if (e < 0) return EventOrder{};
-      if (owns(e)) return EventOrder{s_.event[e].key, e};
+      if (owns(e)) return EventOrder{cal_.top_key(), e};
       cal_.drop_top();
     }
   }

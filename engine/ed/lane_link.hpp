@@ -49,6 +49,7 @@ public:
     for (auto& m : box_) {
       m.head.store(0, std::memory_order_relaxed);
       m.tail.store(0, std::memory_order_relaxed);
+      m.read = 0;  // else a restart after mail would skip the first items sent
     }
   }
   int owner_of_row(int r) const { return owner_[static_cast<std::size_t>(r)]; }
