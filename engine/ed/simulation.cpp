@@ -1,8 +1,10 @@
 #include "engine/ed/simulation.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <numbers>
+#include <thread>
 #include <utility>
 
 #include <fmt/format.h>
@@ -128,6 +130,17 @@ void Simulation::build(std::vector<DiskInit> disks) {
   restart();
   s_.reset_measurements();
 }
+
+namespace {
+std::atomic<int> g_lane_threads{0};  // 0: as the machine has cores
+}  // namespace
+
+int lane_threads() {
+  const int n = g_lane_threads.load(std::memory_order_relaxed);
+  if (n > 0) return std::min(n, 2);
+  return std::thread::hardware_concurrency() >= 2 ? 2 : 1;
+}
+void set_lane_threads(int n) { g_lane_threads.store(n, std::memory_order_relaxed); }
 
 // The disks' persistent ids: 1, 2, … in order, or the ones given (all or none, distinct,
 // positive); the next disk added gets one more than the largest.

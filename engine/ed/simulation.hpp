@@ -30,6 +30,12 @@ std::string_view calendar_name(CalendarKind k);
 // "cell_heap" | "bucket"; throws grainflow::Error naming the allowed values.
 CalendarKind calendar_from_name(std::string_view name);
 
+// Threads the two-lane loop may use (Config::threads with lanes = 2): 2 where the machine has
+// two cores, or what set_lane_threads said (grainflow run --threads); the results do not
+// depend on it.
+int lane_threads();
+void set_lane_threads(int n);
+
 struct Config {
   double lx = 40.0, ly = 40.0;      // box [0, lx] × [0, ly]
   int n = 0;                        // number of disks; 0: derived from area_fraction

@@ -160,6 +160,33 @@ TEST(CliRun, DisksBoxWritesTheRunFolder) {
   EXPECT_EQ(sa, sb);
 }
 
+TEST(CliRun, EdLanesGiveTheSameRunOnOneThreadAndTwo) {
+  // system.lanes = 2 (the two-lane loop, its sampler acting at stops): --threads decides
+  // only how it runs.
+  std::string stats[2], digest[2];
+  for (int k = 0; k < 2; ++k) {
+    const fs::path out = fresh_dir("run_lanes_" + std::to_string(k + 1));
+    const Result r = run("run " + scenes + "/disks_box.toml -o " + out.string() +
+                         " --set system.box=[40.0,40.0] --set system.lanes=2 --set run.until=12.0"
+                         " --set output.png=false --set output.mp4=false --threads " + std::to_string(k + 1));
+    ASSERT_EQ(r.status, 0) << r.output;
+    std::ifstream csv(out / "stats.csv"), json(out / "run.json");
+    stats[k].assign((std::istreambuf_iterator<char>(csv)), std::istreambuf_iterator<char>());
+    const std::string text((std::istreambuf_iterator<char>(json)), std::istreambuf_iterator<char>());
+    const auto at = text.find("\"state_digest\"");
+    ASSERT_NE(at, std::string::npos) << text;
+    digest[k] = text.substr(at, 40);
+  }
+  EXPECT_GT(stats[0].size(), 100u);
+  EXPECT_EQ(stats[0], stats[1]);
+  EXPECT_EQ(digest[0], digest[1]);
+  // What the lanes do not run is refused before anything runs, naming the key.
+  const Result bad = run("run " + scenes + "/obstacle_quick.toml -o " + fresh_dir("run_lanes_bad").string() +
+                         " --set system.lanes=2");
+  EXPECT_EQ(bad.status, 2) << bad.output;
+  EXPECT_TRUE(contains(bad.output, "system.lanes = 2 runs without boundary.obstacle")) << bad.output;
+}
+
 TEST(CliRun, DemFreeFallFollowsGravityAndDrawsPanels) {
   const fs::path out = fresh_dir("run_dem");
   const Result r = run("run " + scenes + "/dem_freefall_box.toml -o " + out.string() +

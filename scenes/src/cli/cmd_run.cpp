@@ -12,6 +12,7 @@
 
 #include "engine/core/error.hpp"
 #include "engine/dem/simulation.hpp"
+#include "engine/ed/simulation.hpp"
 #include "scenes/src/scene/overrides.hpp"
 #include "scenes/src/scene/scene.hpp"
 #include "scenes/src/cli/commands.hpp"
@@ -50,7 +51,12 @@ void check_resume_overrides(const std::vector<std::string>& overrides, const Sce
 
 int run_command(const RunArgs& a) {
   // The DEM engine's OpenMP team; its results do not depend on the count.
-  if (a.threads > 0) dem::set_thread_count(a.threads);
+  // The DEM engine's OpenMP team and the ED engine's lanes (system.lanes = 2); the results
+  // depend on neither.
+  if (a.threads > 0) {
+    dem::set_thread_count(a.threads);
+    ed::set_lane_threads(a.threads);
+  }
   RunOptions opt;
   if (!a.resume.empty()) {
     if (!a.scene.empty() || !a.out_dir.empty() || a.force)
@@ -92,7 +98,8 @@ void setup_run_command(CLI::App& app, int& status) {
       ->allow_extra_args(false);
   cmd->add_flag("--force", args->force, "Replace the results of a previous run in the folder");
   cmd->add_option("--threads", args->threads,
-                  "Threads of the DEM engine (default: OMP_NUM_THREADS, else all cores; results do not depend on it)")
+                  "Threads of the DEM engine (default: OMP_NUM_THREADS, else all cores) and of the ED engine's two lanes "
+                  "(system.lanes = 2; default: 2 where there are two cores); results do not depend on it")
       ->check(CLI::PositiveNumber);
   cmd->callback([args, &status] { status = run_command(*args); });
 }

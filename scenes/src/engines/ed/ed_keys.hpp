@@ -29,6 +29,7 @@ inline constexpr Key<double> tau_tc_step{"system.tau_tc_step"};
 inline constexpr Key<std::int64_t> collapse_events{"system.collapse_events"};
 inline constexpr Key<std::string> calendar{"system.calendar"};
 inline constexpr Key<double> cell_size{"system.cell_size"};
+inline constexpr Key<std::int64_t> lanes{"system.lanes"};
 // The initial state: the melting lattice (at area_fraction | n | N, Maxwell velocities at
 // kT plus U), or the disks of a particle file (a run's particles.xyz, an XYZ or LAMMPS dump).
 inline constexpr Key<std::string> initial_kind{"system.initial.kind"};

@@ -64,6 +64,8 @@ ed::Config ed_config(const Scene& sc) {
   c.tau_tc_step = sc.get(keys::tau_tc_step);
   c.min_cell_size = sc.get(keys::cell_size);
   c.calendar = ed::calendar_from_name(sc.get(keys::calendar));
+  c.lanes = int(sc.get(keys::lanes));
+  c.threads = c.lanes == 2 ? ed::lane_threads() : 1;
   // Open stream boundaries close the x axis themselves (seed 003 §3.2–3.3): no x walls.
   c.open_x = sc.get(keys::stream_kind) != "periodic";
   return c;
