@@ -26,8 +26,7 @@ void CircularObstacle::cells(const CellGrid& g, std::vector<int>& out) const {
     }
 }
 
-double CircularObstacle::event_time(const SystemState& s, int i) const {
-  const DiskNow d = s.disk_now(i);
+double CircularObstacle::event_time(const SystemState&, int, const DiskNow& d) const {
   return pair_collision_time(d.x - cfg_.centre.x(), d.y - cfg_.centre.y(), d.vx, d.vy, cfg_.radius + d.r);
 }
 

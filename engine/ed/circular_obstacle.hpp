@@ -28,7 +28,7 @@ public:
   explicit CircularObstacle(const ObstacleConfig& cfg);
   std::string_view name() const override { return "obstacle"; }
   void cells(const CellGrid& grid, std::vector<int>& out) const override;
-  double event_time(const SystemState& state, int i) const override;
+  double event_time(const SystemState& state, int i, const DiskNow& d) const override;
   void action(SystemState& state, int i) override;
   void save(io::ArchiveWriter& w) const override;
   void load(io::ArchiveReader& r) override;

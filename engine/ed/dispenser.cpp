@@ -36,14 +36,13 @@ void DispenserPiston::cells(const CellGrid& g, std::vector<int>& out) const {
     for (int iy = 0; iy < g.ny(); ++iy) out.push_back(g.index(ix, iy));
 }
 
-double DispenserPiston::event_time(const SystemState& s, int i) const {
+double DispenserPiston::event_time(const SystemState& s, int i, const DiskNow& d) const {
   if (s.frozen(i)) return kNever;
-  const DiskNow d = s.disk_now(i);
   const double closing = cfg_.U - d.vx;  // piston overtakes the disk's left edge
   if (!(closing > 0.0)) return kNever;
-  const double dt = std::max(0.0, d.x - d.r - position(s.now())) / closing;
+  const double dt = std::max(0.0, d.x - d.r - position(d.t)) / closing;
   // The piston vanishes at the recharge: later contacts belong to the next cycle.
-  return s.now() + dt <= t_recharge_ ? dt : kNever;
+  return d.t + dt <= t_recharge_ ? dt : kNever;
 }
 
 void DispenserPiston::action(SystemState& s, int i) {

@@ -36,7 +36,7 @@ public:
   DispenserPiston(const DispenserConfig& cfg, double t0, double ly, bool periodic_y);
   std::string_view name() const override { return "dispenser piston"; }
   void cells(const CellGrid& grid, std::vector<int>& out) const override;
-  double event_time(const SystemState& state, int i) const override;
+  double event_time(const SystemState& state, int i, const DiskNow& d) const override;
   void action(SystemState& state, int i) override;
   void save(io::ArchiveWriter& w) const override;
   void load(io::ArchiveReader& r) override;

@@ -56,8 +56,7 @@ double wall_time(double p, double v, double r, double l) {
 }
 }  // namespace
 
-double ElasticWalls::event_time(const SystemState& s, int i) const {
-  const DiskNow d = s.disk_now(i);
+double ElasticWalls::event_time(const SystemState&, int, const DiskNow& d) const {
   const double tx = wx_ ? wall_time(d.x, d.vx, d.r, lx_) : kNever;
   const double ty = wy_ ? wall_time(d.y, d.vy, d.r, ly_) : kNever;
   return std::min(tx, ty);

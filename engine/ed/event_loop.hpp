@@ -775,9 +775,14 @@ private:
 
   void scan_agents(int i, int c, double& best, int& who, EventKind& kind) const {
     if (s_.cell_agents.empty()) return;  // no agent in any cell: skip the per-cell lookup
-    for (int k = s_.cell_agent_begin[c]; k < s_.cell_agent_begin[c + 1]; ++k) {
+    const int begin = s_.cell_agent_begin[c], end = s_.cell_agent_begin[c + 1];
+    if (begin == end) return;
+    const Disk now_i = now_record(i);
+    const DiskBody& b = s_.body[i];
+    const DiskNow d{now_i.x, now_i.y, now_i.vx, now_i.vy, b.r, b.m, b.w, now()};
+    for (int k = begin; k < end; ++k) {
       const int a = s_.cell_agents[k];
-      const double t = s_.agents[a]->event_time(s_, i);
+      const double t = s_.agents[a]->event_time(s_, i, d);
       if (t < best) {
         best = t;
         who = a;

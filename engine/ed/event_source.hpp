@@ -22,6 +22,7 @@ namespace grainflow::ed {
 
 class CellGrid;
 class SystemState;
+struct DiskNow;
 
 // An agent that meets individual disks: elastic walls, obstacles, inlet/outlet planes.
 // It lives in the cells whose disks can reach it and is asked about every disk predicted
@@ -32,8 +33,10 @@ public:
   virtual std::string_view name() const = 0;
   // Cells whose disks can meet this agent before leaving the cell.
   virtual void cells(const CellGrid& grid, std::vector<int>& out) const = 0;
-  // Delay from state.now() until disk i (synchronised to now) meets the agent, or kNever.
-  virtual double event_time(const SystemState& state, int i) const = 0;
+  // Delay from d.t until disk i, which is d then, meets the agent, or kNever. d.t is the
+  // loop's clock: read it, not state.now() (the two-lane loop runs clocks of its own, and
+  // asks from two threads at once: read nothing here that an action changes).
+  virtual double event_time(const SystemState& state, int i, const DiskNow& d) const = 0;
   // Acts on disk i at state.now(); the disk is synchronised. Velocities are changed only
   // through SystemState::set_velocity so energy/momentum books and event counters stay right.
   virtual void action(SystemState& state, int i) = 0;

@@ -29,8 +29,7 @@ void StreamFilter::cells(const CellGrid& g, std::vector<int>& out) const {
       for (int iy = 0; iy < g.ny(); ++iy) out.push_back(g.index(ix, iy));
 }
 
-double StreamFilter::event_time(const SystemState& s, int i) const {
-  const DiskNow d = s.disk_now(i);
+double StreamFilter::event_time(const SystemState& s, int i, const DiskNow& d) const {
   if (!(d.vx > 0.0)) return kNever;
   if (s.frozen(i)) return cfg_.delete_instead_of_freeze ? kNever : std::max(0.0, cfg_.lx - d.x) / d.vx;
   return std::max(0.0, xf_ - d.x) / d.vx;

@@ -37,7 +37,7 @@ public:
   explicit StreamFilter(const FilterConfig& cfg);
   std::string_view name() const override { return "stream filter"; }
   void cells(const CellGrid& grid, std::vector<int>& out) const override;
-  double event_time(const SystemState& state, int i) const override;
+  double event_time(const SystemState& state, int i, const DiskNow& d) const override;
   void action(SystemState& state, int i) override;
   void save(io::ArchiveWriter& w) const override;
   void load(io::ArchiveReader& r) override;

@@ -82,8 +82,7 @@ void StreamInlet::action(SystemState& s) {
 
 void StreamInletPlane::cells(const CellGrid& grid, std::vector<int>& out) const { plane_cells(grid, x_, out); }
 
-double StreamInletPlane::event_time(const SystemState& s, int i) const {
-  const DiskNow d = s.disk_now(i);
+double StreamInletPlane::event_time(const SystemState&, int, const DiskNow& d) const {
   // A disk found behind the plane (round-off) while moving back leaves at once.
   return d.vx < 0.0 ? std::max(0.0, (x_ - d.x) / d.vx) : kNever;
 }

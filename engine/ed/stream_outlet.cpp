@@ -16,8 +16,7 @@ StreamOutlet::StreamOutlet(const StreamOutletConfig& cfg, std::shared_ptr<const 
 
 void StreamOutlet::cells(const CellGrid& grid, std::vector<int>& out) const { plane_cells(grid, cfg_.x, out); }
 
-double StreamOutlet::event_time(const SystemState& s, int i) const {
-  const DiskNow d = s.disk_now(i);
+double StreamOutlet::event_time(const SystemState&, int, const DiskNow& d) const {
   // Only +x motion meets the outlet, so a disk just turned back (W_x < 0) is not asked
   // again until a collision sends it forward; one found past the plane acts at once.
   return d.vx > 0.0 ? std::max(0.0, (cfg_.x - d.x) / d.vx) : kNever;

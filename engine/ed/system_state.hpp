@@ -116,9 +116,9 @@ struct LaneBooks {
   }
 };
 
-// A disk as an agent sees it at the current time (a copy: SystemState::disk_now).
+// A disk as an agent sees it at time t (a copy: SystemState::disk_now, or the loop's).
 struct DiskNow {
-  double x = 0.0, y = 0.0, vx = 0.0, vy = 0.0, r = 0.0, m = 0.0, w = 0.0;
+  double x = 0.0, y = 0.0, vx = 0.0, vy = 0.0, r = 0.0, m = 0.0, w = 0.0, t = 0.0;
 };
 
 // What a disk's scheduled non-crossing event is.
@@ -269,7 +269,7 @@ public:
     const Disk& d = disk[i];
     const DiskBody& b = body[i];
     const double dt = now_ - epoch_;
-    return {d.x + d.vx * dt, d.y + d.vy * dt, d.vx, d.vy, b.r, b.m, b.w};
+    return {d.x + d.vx * dt, d.y + d.vy * dt, d.vx, d.vy, b.r, b.m, b.w, now_};
   }
   // Gives disk i a new velocity from now on, its path continuous at now: the epoch position
   // moves by (v_old − v_new)(now − epoch). Books, counter and re-prediction are the caller's

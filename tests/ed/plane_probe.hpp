@@ -20,8 +20,7 @@ public:
   explicit PlaneProbe(double xm) : xm_(xm) {}
   std::string_view name() const override { return "test_plane"; }
   void cells(const ed::CellGrid& grid, std::vector<int>& out) const override { ed::plane_cells(grid, xm_, out); }
-  double event_time(const ed::SystemState& s, int i) const override {
-    const ed::DiskNow d = s.disk_now(i);
+  double event_time(const ed::SystemState&, int, const ed::DiskNow& d) const override {
     const double dx = xm_ - d.x;
     if (std::abs(dx) < 1e-9 || dx * d.vx <= 0.0) return ed::kNever;
     return dx / d.vx;
