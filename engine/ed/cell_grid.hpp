@@ -152,6 +152,11 @@ public:
   // reader's mismatch) for another geometry or (corrupt) arrays of other sizes. Whether
   // the members agree with the disks' slot states is for the caller to check.
   Members read_members(io::ArchiveReader& r, int n_disks) const;
+  // The membership as adopt_members takes it (a snapshot in memory: SystemState::snapshot).
+  void copy_members(Members& m) const {
+    m.packed = slots_;
+    m.cell = cell_;
+  }
   void adopt_members(Members&& m) noexcept {
     slots_.swap(m.packed);
     cell_.swap(m.cell);

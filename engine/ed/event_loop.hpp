@@ -25,6 +25,7 @@ struct CollisionRecord {
   double t;
 };
 
+
 class EventLoopBase {
 public:
   virtual ~EventLoopBase() = default;
@@ -47,6 +48,12 @@ public:
   virtual double next_event_time() = 0;
   virtual std::size_t calendar_bytes() const = 0;
   virtual const char* calendar_name() const = 0;
+  // The two-lane loop's runs between stops on two threads, and of them those it did again
+  // in the merged order (ParallelLoop::run_lanes); zero for the one loop.
+  struct LaneRuns {
+    std::uint64_t runs = 0, redone = 0;
+  };
+  virtual LaneRuns lane_runs() const { return {}; }
   std::function<void(const CollisionRecord&)> on_collision;  // empty: no tracing
 };
 
@@ -151,8 +158,29 @@ public:
     }
   }
   // Processes e, the lane's next event, with no regard to the other lane (ParallelLoop's
-  // merged order on one thread).
-  void lane_process(int e) { process(e); }
+  // merged order on one thread: every event is in the order of one loop).
+  void lane_process(int e) {
+    serial_ = true;
+    process(e);
+  }
+  // Takes in the clock, and what the lanes read of the state as fixed while they run (the
+  // TC model's state and cutoff, whether disks may be frozen), at the start of a run.
+  void lane_start(double t) {
+    books_.start(t);
+    horizon_ = EventOrder{-std::numeric_limits<double>::infinity(), -1};
+    deferred_ = -1;
+    tc_on_ = s_.tc_on();
+    tc_tau_ = s_.tc.tau;
+    if (tc_on_) s_.tc_times();  // sized here, not by a lane
+    maybe_frozen_ = s_.frozen_count() > 0 || !s_.agents.empty();
+  }
+  // Settles disks added or removed, or slots grown, by a timer at a stop, with the lanes at
+  // rest: the records only (the caller then fills the calendars).
+  void lane_settle() {
+    resting_ = true;
+    settle_changes();
+    resting_ = false;
+  }
   // Processes this lane's events up to time t (key ≤ t) while the other lane does its own
   // in another thread, and returns when both are done.
   void lane_run(double t) {
@@ -165,6 +193,7 @@ public:
       else LaneLink::spin();
     };
     for (;;) {
+      if (l.violated()) break;  // the other lane found one: the run is done again anyway
       const EventOrder o = lane_next();
       l.publish(me_, o);
       l.taken(me_);
@@ -173,7 +202,8 @@ public:
         wait();
         continue;
       }
-      if (edge_event(o.e)) {
+      serial_ = edge_event(o.e) || o.e == deferred_;
+      if (serial_) {
         if (!l.other_is_past(me_, o)) {
           wait();
           continue;
@@ -181,12 +211,78 @@ public:
         // Mail the other lane sent before it moved on may hold an earlier event.
         if (l.mail_waiting(me_)) continue;
       }
-      process(o.e);
+      if (o < horizon_ && late_conflict(o)) {
+        l.violate();
+        break;
+      }
+      const Stamped cells = before_stamp(o.e);
+      if (process(o.e)) {
+        deferred_ = -1;
+        if (horizon_ < o) horizon_ = o;
+        after_stamp(o.e, cells, o.key);
+      } else {
+        deferred_ = o.e;  // found to need the other lane's order: done once it may
+      }
     }
   }
 
 private:
   using Candidate = ScanCandidate;
+
+  // ---- late events (LaneLink::stamp) --------------------------------------------------
+  // The cells event e changes a member of (or the membership of), as they are before it;
+  // none when e's cell lies more than a row beyond the stamped rows (its partner's and a
+  // crossing's new cell are then beyond them too).
+  struct Stamped {
+    int own = -1, partner = -1;
+  };
+  Stamped before_stamp(int e) const {
+    Stamped c;
+    const CellGrid& g = s_.grid;
+    const int own = g.cell(e), iy = g.iy(own);
+    const bool near = link_->stamp_row(iy) || link_->stamp_row(iy > 0 ? iy - 1 : g.ny() - 1) ||
+                      link_->stamp_row(iy + 1 < g.ny() ? iy + 1 : 0);
+    if (!near) return c;
+    c.own = own;
+    const NextEvent& ev = s_.event[e];
+    if (!ev.crossing && ev.kind == EventKind::Pair) c.partner = g.cell(static_cast<int>(ev.partner));
+    return c;
+  }
+  void after_stamp(int e, const Stamped& c, double t) {
+    if (c.own < 0) return;
+    stamp(c.own, t);
+    if (s_.present(e)) stamp(s_.grid.cell(e), t);  // a crossing's new cell
+    if (c.partner >= 0) stamp(c.partner, t);
+  }
+  void stamp(int c, double t) {
+    if (link_->stamp_row(s_.grid.iy(c))) link_->stamp(c, t);
+  }
+  // Does event o, later than one this lane did, read a cell stamped at or after its time?
+  // It reads the 3×3 blocks around its parties' cells (a crossing's new block lies in the
+  // 5×5 around the old cell); an equal stamp may be a later entry's, so counts too.
+  bool late_conflict(EventOrder o) const {
+    const NextEvent& ev = s_.event[o.e];
+    const int c = s_.grid.cell(o.e);
+    if (stamped_after(c, ev.crossing ? 2 : 1, o.key)) return true;
+    return !ev.crossing && ev.kind == EventKind::Pair &&
+           stamped_after(s_.grid.cell(static_cast<int>(ev.partner)), 1, o.key);
+  }
+  bool stamped_after(int c, int reach, double t) const {
+    const CellGrid& g = s_.grid;
+    for (int ky = -reach; ky <= reach; ++ky) {
+      int cy = g.iy(c) + ky;
+      double sy = 0.0;
+      if (!wrap(cy, g.ny(), g.periodic_y(), g.ly(), sy)) continue;
+      if (!link_->stamp_row(cy)) return true;
+      for (int kx = -reach; kx <= reach; ++kx) {
+        int cx = g.ix(c) + kx;
+        double sx = 0.0;
+        if (!wrap(cx, g.nx(), g.periodic_x(), g.lx(), sx)) continue;
+        if (link_->stamp_of(g.index(cx, cy)) >= t) return true;
+      }
+    }
+    return false;
+  }
 
   // ---- the clock and the books: the state's own, or this lane's -----------------------
   double now() const {
@@ -219,6 +315,7 @@ private:
   // into the other lane's mail.
   void reschedule(int e) {
     if constexpr (kLane) {
+      if (resting_) return;
       const int to = owner(e);
       if (to != me_) {
         mine_[static_cast<std::size_t>(e)] = 0;  // a disk that crossed into the other band leaves
@@ -239,9 +336,12 @@ private:
   // written by the other lane only in its edge events, which wait in turn. (A partner of
   // this lane in an inner row is written by this lane alone; the other lane's disks in
   // its inner rows are never read: see far_partner.)
+  // An agent's event is ordered with the other lane's the same way (it changes the agent's
+  // state: its random stream, its counts, the disks it adds or takes out).
   bool edge_event(int i) const {
     if (edge_row_of(i)) return true;
     const NextEvent& ev = s_.event[i];
+    if (ev.kind == EventKind::Agent) return !ev.crossing;
     return ev.kind == EventKind::Pair && (!owns(ev.partner) || edge_row_of(ev.partner));
   }
   // A lane does not read a partner outside the 3×3 cells around disk i: such a pair cannot
@@ -260,7 +360,9 @@ private:
     return dx > 1 || dy > 1;
   }
 
-  void process(int e) {
+  // False (nothing done) when a lane finds that the event must wait for the other lane's
+  // order after all (an overlap removal in an event it took as inner: tc_verdict).
+  bool process(int e) {
     ++stats().events;
     advance_clock(s_.event[e].key);
     if constexpr (!kLane) s_.maybe_rebase();  // the lanes' epoch moves only between their runs
@@ -284,18 +386,39 @@ private:
         ++stats().stale;
         predict_full(e);
         reschedule(e);
-      } else if (s_.frozen_count() > 0 && (s_.frozen(e) || s_.frozen(j))) {
-        collide_frozen(e, j);
+      } else if (may_be_frozen() && (s_.frozen(e) || s_.frozen(j))) {
+        if (!collide_frozen(e, j)) return undo_event();
       } else {
-        collide(e, j);
+        if (!collide(e, j)) return undo_event();
       }
     } else {
       agent_event(e, s_.event[e].partner);
     }
     cal_.commit();
+    return true;
+  }
+  bool undo_event() {
+    --stats().events;
+    return false;
+  }
+  // The lanes take whether disks may be frozen at their start (the count changes as agents
+  // freeze disks in the other lane).
+  bool may_be_frozen() const {
+    if constexpr (kLane) return maybe_frozen_;
+    else return s_.frozen_count() > 0;
+  }
+  bool tc_on() const {
+    if constexpr (kLane) return tc_on_;
+    else return s_.tc_on();
+  }
+  // The TC cutoff: a lane's is the state's when it started (a removal raises the state's
+  // at once; the lanes take it in at their next start, the same for one thread or two).
+  double tc_tau() const {
+    if constexpr (kLane) return tc_tau_;
+    else return s_.tc.tau;
   }
 
-  void collide(int i, int j) {
+  bool collide(int i, int j) {
     list_parties(i, j);
     const Disk& a = s_.disk[i];
     const Disk& b = s_.disk[j];
@@ -310,9 +433,10 @@ private:
     const double w1 = plain ? 0.0 : s_.body[i].w, w2 = plain ? 0.0 : s_.body[j].w;
     // TC model (inelastic runs with a cutoff only; elastic ones never enter).
     const CollisionParams* rule = &s_.rule;
-    if (s_.tc_on()) [[unlikely]] {
+    if (tc_on()) [[unlikely]] {
       const TcVerdict v = tc_verdict(i, j, rx * rx + ry * ry, r1 + r2, false);
-      if (v == TcVerdict::removed) return;
+      if (v == TcVerdict::deferred) return false;
+      if (v == TcVerdict::removed) return true;
       if (v == TcVerdict::elastic) rule = &tc_elastic_rule();
     }
     const CollisionImpulse J = collision_impulse(rx, ry, a.vx - b.vx, a.vy - b.vy, r1, r2, w1, w2, m1, m2, *rule);
@@ -342,6 +466,7 @@ private:
     // A heap-based calendar must see each key change before the next one (an entry whose
     // key changed but is not yet re-sifted would mislead the other's sift).
     predict_parties(i, j);
+    return true;
   }
 
   void crossing(int i) {
@@ -430,14 +555,17 @@ private:
 
   void agent_event(int i, int a) {
     ++stats().agent_events;
-    s_.agents[a]->action(s_, i);
+    ParticleAgent& agent = *s_.agents[a];
+    if constexpr (kLane) s_.act_for_lane(books_, [&] { agent.action(s_, i); });
+    else agent.action(s_, i);
     settle_changes();
     if (s_.present(i)) {  // the action may have removed it (outlet)
       predict_full(i);
-      cal_.update(i);
+      reschedule(i);
     }
     repredict_touched(i);
-    reschedule_timers();
+    // A lane leaves the timers it switched to the next stop (ParallelLoop::settle).
+    if constexpr (!kLane) reschedule_timers();
   }
 
   void timer_event(int a) {
@@ -467,7 +595,7 @@ private:
     for (int j : s_.touched())
       if (j != skip && s_.present(j)) {
         predict_full(j);
-        cal_.update(j);
+        reschedule(j);
       }
     s_.clear_touched();
   }
@@ -488,9 +616,10 @@ private:
   // ones are predicted, and so is every disk of the 3×3 cells around them, whose events
   // did not know the newcomer.
   void settle_changes() {
-    if (s_.grown()) {
-      cal_.reset(s_.calendar_keys(), &s_.grid, s_.size(), static_cast<int>(s_.timers.size()));
-    }
+    // (Slots grow only when a timer adds disks; the lanes' timers act at stops, whose
+    // caller refills the lanes' calendars.)
+    if constexpr (!kLane)
+      if (s_.grown()) cal_.reset(s_.calendar_keys(), &s_.grid, s_.size(), static_cast<int>(s_.timers.size()));
     for (const SystemState::Removal& r : s_.removed()) cal_.removed(r.id, r.cell);
     if (!s_.added().empty()) {
       around_.clear();
@@ -515,7 +644,7 @@ private:
       around_.erase(std::unique(around_.begin(), around_.end()), around_.end());
       for (int j : around_) {
         predict_full(j);
-        cal_.update(j);
+        reschedule(j);
       }
     }
     s_.clear_changes();
@@ -523,7 +652,7 @@ private:
 
   // A disk meets a frozen (infinitely heavy) one: it reflects in the frozen disk's frame;
   // the frozen disk keeps its velocity and stays outside the books (Fig. 3.8).
-  void collide_frozen(int i, int j) {
+  bool collide_frozen(int i, int j) {
     if (s_.frozen(i)) std::swap(i, j);  // i: the mobile disk (if any)
     const Disk& a = s_.disk[i];
     const Disk& b = s_.disk[j];
@@ -534,9 +663,10 @@ private:
     if (!s_.frozen(i)) {
       const double m = ba.m;
       const CollisionParams* rule = &s_.rule;
-      if (s_.tc_on()) [[unlikely]] {  // the mobile disk's clock alone: a frozen disk is a wall
+      if (tc_on()) [[unlikely]] {  // the mobile disk's clock alone: a frozen disk is a wall
         const TcVerdict v = tc_verdict(i, j, rx * rx + ry * ry, ba.r + bb.r, true);
-        if (v == TcVerdict::removed) return;
+        if (v == TcVerdict::deferred) return false;
+        if (v == TcVerdict::removed) return true;
         if (v == TcVerdict::elastic) rule = &tc_elastic_rule();
       }
       const CollisionImpulse J = collision_impulse_heavy(rx, ry, a.vx - b.vx, a.vy - b.vy, ba.r, bb.r, ba.w,
@@ -572,13 +702,14 @@ private:
     }
     // j keeps its trajectory; its own event may have named i, so it is predicted again too.
     predict_full(i);
-    cal_.update(i);
+    reschedule(i);
     predict_full(j);
-    cal_.update(j);
+    reschedule(j);
+    return true;
   }
 
   // ---- TC model (Luding & McNamara 1998; seed 003 ch. 5) --------------------------------
-  enum class TcVerdict { inelastic, elastic, removed };
+  enum class TcVerdict { inelastic, elastic, removed, deferred };
 
   // Decides a collision of i and j (r2: their squared distance now, at
   // contact, sigma: the sum of radii) with the TC model on. dt: the time since the more
@@ -592,22 +723,27 @@ private:
   //   stalled clock of a collapse) — removes the offending disk instead (the party whose
   //   previous collision is the more recent, the higher id on a tie; with j frozen, i),
   //   raises τ_TC by its step and predicts the other disk afresh: `removed`, nothing else
-  //   happens.
+  //   happens. A lane does this only in the order of one loop (as an edge event: the
+  //   removal changes the state's counts and free slots); found in an event it took as
+  //   inner, the verdict is `deferred`, nothing has changed yet, and the lane does the
+  //   event again once the other lane is past it.
   TcVerdict tc_verdict(int i, int j, double r2, double sigma, bool j_frozen) {
     std::vector<double>& last = s_.tc_times();
     const double now = this->now();
     const double ti = last[i], tj = j_frozen ? -kNever : last[j];
     const double dt = now - std::max(ti, tj);
-    const bool elastic = dt < s_.tc.tau;
+    const bool elastic = dt < tc_tau();
     const double resolution = 4.0 * std::numeric_limits<double>::epsilon() * std::abs(now);
     const double c = r2 - sigma * sigma;
     if (!(c >= -2.0 * kOverlapGap * sigma * sigma) || (!elastic && dt <= resolution)) [[unlikely]] {
+      if (!serial_) return TcVerdict::deferred;
       const int k = j_frozen ? i : ti > tj ? i : tj > ti ? j : std::max(i, j);
       const int other = k == i ? j : i;
-      s_.remove_overlapping(k);
+      if constexpr (kLane) s_.act_for_lane(books_, [&] { s_.remove_overlapping(k); });
+      else s_.remove_overlapping(k);
       settle_changes();  // takes k out of the calendar
       predict_full(other);
-      cal_.update(other);
+      reschedule(other);
       return TcVerdict::removed;
     }
     last[i] = now;
@@ -949,6 +1085,13 @@ private:
   LaneLink* link_ = nullptr;
   int me_ = 0;
   std::vector<std::uint8_t> mine_;  // owns()
+  // The event being processed is in the order of one loop (always, outside lane_run).
+  bool serial_ = true;
+  int deferred_ = -1;     // the entry found to need that order (process returned false)
+  bool resting_ = false;  // lane_settle: records only, no calendar or mail
+  bool tc_on_ = false, maybe_frozen_ = false;  // lane_start
+  double tc_tau_ = 0.0;
+  EventOrder horizon_;  // the latest event this lane did in this run (late_conflict)
 };
 
 }  // namespace grainflow::ed

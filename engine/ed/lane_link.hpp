@@ -13,6 +13,7 @@
 // this one is done): every pair of events that touch a common disk or cell is processed in
 // the same order as by one loop, and so with the same bits, whatever the interleaving.
 #pragma once
+#include <algorithm>
 #include <atomic>
 #include <cstdint>
 #include <limits>
@@ -33,17 +34,25 @@ public:
   // Rows within this distance of the other band hold the disks whose events are edge events.
   static constexpr int kEdgeRows = 3;
   static constexpr int kMinRows = 4 * kEdgeRows + 4;  // each band's inner rows are not empty
+  // Rows within this distance of the other band keep stamps (late events); a late event
+  // that reads a row farther in counts as a violation.
+  static constexpr int kStampRows = kEdgeRows + 3;
 
-  // ny rows, the first half (rounded down) to lane 0; periodic_y: the last row meets the first.
-  void configure(int ny, bool periodic_y) {
+  // ny rows, the first half (rounded down) to lane 0; periodic_y: the last row meets the first;
+  // n_cells cells in all.
+  void configure(int ny, bool periodic_y, int n_cells) {
+    cell_time_.assign(static_cast<std::size_t>(n_cells), -std::numeric_limits<double>::infinity());
+    violated_.store(false, std::memory_order_relaxed);
     owner_.assign(static_cast<std::size_t>(ny), 0);
     edge_.assign(static_cast<std::size_t>(ny), 0);
+    stamp_row_.assign(static_cast<std::size_t>(ny), 0);
     const int half = ny / 2;
     for (int r = 0; r < ny; ++r) {
       owner_[static_cast<std::size_t>(r)] = r < half ? 0 : 1;
       int d = r < half ? half - 1 - r : r - half;  // rows to the middle cut
       if (periodic_y) d = std::min(d, r < half ? r : ny - 1 - r);  // or to the wrapped one
       edge_[static_cast<std::size_t>(r)] = d < kEdgeRows ? 1 : 0;
+      stamp_row_[static_cast<std::size_t>(r)] = d < kStampRows ? 1 : 0;
     }
     for (auto& p : pub_) publish_raw(p, EventOrder{});
     for (auto& m : box_) {
@@ -53,7 +62,31 @@ public:
     }
   }
   int owner_of_row(int r) const { return owner_[static_cast<std::size_t>(r)]; }
+
+  // ---- late events ----------------------------------------------------------------------
+  // A lane runs its inner events without waiting, so an event the other lane mails it may
+  // come due after later ones of its own. Those it did not touch are unaffected — but the
+  // mailed event's consequences can reach them (a chain of collisions into the inner rows,
+  // in no time at all in a dense cluster: hard disks give no look-ahead). So each cell keeps
+  // the time of the last event that changed a member or the membership (stamp), and a lane
+  // taking an event later than one it already did checks the cells the event reads: a
+  // stamp at or after its time means the order of one loop may be broken (a violation).
+  // The loop then does the run again from its start, in the merged order (ParallelLoop).
+  // Only the rows within kStampRows of the other band keep stamps (the events there are a
+  // few per cent of all); a late event reading a row farther in is a violation outright.
+  void stamp(int c, double t) {
+    double& s = cell_time_[static_cast<std::size_t>(c)];
+    if (s < t) s = t;
+  }
+  double stamp_of(int c) const { return cell_time_[static_cast<std::size_t>(c)]; }
+  void clear_stamps() {
+    std::fill(cell_time_.begin(), cell_time_.end(), -std::numeric_limits<double>::infinity());
+    violated_.store(false, std::memory_order_relaxed);
+  }
+  void violate() { violated_.store(true, std::memory_order_release); }
+  bool violated() const { return violated_.load(std::memory_order_acquire); }
   bool edge_row(int r) const { return edge_[static_cast<std::size_t>(r)] != 0; }
+  bool stamp_row(int r) const { return stamp_row_[static_cast<std::size_t>(r)] != 0; }
 
   // ---- published next events ----------------------------------------------------------
   // Lane k is about to process (or is processing) o, and has processed everything before it.
@@ -142,7 +175,9 @@ private:
     std::uint64_t read = 0;                          // the receiver's own: read up to here
     EventOrder item[kMailbox];
   };
-  std::vector<std::uint8_t> owner_, edge_;
+  std::vector<std::uint8_t> owner_, edge_, stamp_row_;
+  std::vector<double> cell_time_;  // stamps
+  std::atomic<bool> violated_{false};
   Published pub_[kLanes];
   Mailbox box_[kLanes];
 };

@@ -28,6 +28,7 @@
 #include "engine/core/error.hpp"
 #include "engine/ed/bucket_calendar.hpp"
 #include "engine/ed/event_loop.hpp"
+#include "engine/io/archive.hpp"
 
 namespace grainflow::ed {
 
@@ -45,9 +46,9 @@ public:
 
   void start() override {
     check_supported();
-    link_.configure(s_.grid.ny(), s_.grid.periodic_y());
+    link_.configure(s_.grid.ny(), s_.grid.periodic_y(), s_.grid.size());
     const int n = s_.size(), nt = static_cast<int>(s_.timers.size());
-    lane_[0]->lane_books().start(s_.now());
+    lane_[0]->lane_start(s_.now());
     lane_[0]->lane_predict_all(nt);
     s_.clear_changes();
     s_.clear_touched();
@@ -57,7 +58,7 @@ public:
   }
   void resume() override {
     check_supported();
-    link_.configure(s_.grid.ny(), s_.grid.periodic_y());
+    link_.configure(s_.grid.ny(), s_.grid.periodic_y(), s_.grid.size());
     fill();
   }
 
@@ -121,18 +122,13 @@ public:
   std::size_t calendar_bytes() const override { return lane_[0]->calendar_bytes() + lane_[1]->calendar_bytes(); }
   const char* calendar_name() const override { return BucketCalendar::kName; }
   int threads() const { return threads_; }
+  LaneRuns lane_runs() const override { return {runs_, redone_}; }
 
 private:
   void check_supported() const {
-    std::string why;
-    if (!s_.agents.empty()) why = "agents (walls, an obstacle, stream boundaries)";
-    else if (s_.frozen_count() > 0) why = "frozen disks";
-    else if (s_.tc_on()) why = "the TC model";
-    else if (!s_.grid.periodic_x() || !s_.grid.periodic_y()) why = "a non-periodic axis";
-    else if (s_.grid.ny() < LaneLink::kMinRows)
-      why = "fewer than " + std::to_string(LaneLink::kMinRows) + " rows of cells";
-    if (!why.empty())
-      throw Error("ed: the two-lane loop (threads = 2) runs the periodic box only; this system has " + why +
+    if (s_.grid.ny() < LaneLink::kMinRows)
+      throw Error("ed: the two-lane loop needs at least " + std::to_string(LaneLink::kMinRows) +
+                  " rows of cells across the box; this system has " + std::to_string(s_.grid.ny()) +
                   "; run it with lanes = threads = 1");
   }
   void fill() {
@@ -145,22 +141,28 @@ private:
     if (on_collision) throw Error("ed: the two-lane loop does not trace collisions; run with lanes = threads = 1");
     settle();
   }
-  // Disks whose velocity an action changed (SystemState::touched) are predicted again (and
-  // the calendars refilled), timers it switched (SystemState::reschedule) asked again. Disks
-  // added, removed or frozen, and the TC model switched on (a phase), are refused.
+  // Disks an action added (and the disks around them), and disks whose velocity it changed
+  // (SystemState::touched), are predicted again and the calendars refilled; timers it
+  // switched (SystemState::reschedule) are asked again. (A timer's action, or one from
+  // outside between runs: the lanes are at rest.)
   void settle() {
-    if (!s_.added().empty() || !s_.removed().empty() || s_.grown() || s_.frozen_count() > 0 || s_.tc_on())
-      throw Error("ed: the two-lane loop does not take disks added, removed or frozen, nor the TC model; run with "
-                  "lanes = threads = 1");
-    const int n = s_.size();
-    for (int b : s_.rescheduled()) s_.event[n + b].key = std::max(s_.now(), s_.timers[b]->event_time(s_));
-    s_.clear_rescheduled();
-    if (s_.touched().empty()) return;
-    lane_[0]->lane_books().start(s_.now());
+    const bool changed = s_.grown() || !s_.added().empty() || !s_.removed().empty();
+    if (!changed && s_.touched().empty()) {
+      reschedule_timers();
+      return;
+    }
+    lane_[0]->lane_start(s_.now());
+    if (changed) lane_[0]->lane_settle();
     for (int j : s_.touched())
       if (s_.present(j)) lane_[0]->lane_predict(j);
     s_.clear_touched();
+    reschedule_timers();  // after the slots settled: the timers' records follow the disks'
     fill();
+  }
+  void reschedule_timers() {
+    const int n = s_.size();
+    for (int b : s_.rescheduled()) s_.event[n + b].key = std::max(s_.now(), s_.timers[b]->event_time(s_));
+    s_.clear_rescheduled();
   }
 
   // The earliest timer event (key, entry), or none.
@@ -187,7 +189,7 @@ private:
   }
 
   void start_lanes() {
-    for (auto& l : lane_) l->lane_books().start(s_.now());
+    for (auto& l : lane_) l->lane_start(s_.now());
   }
   void finish_lanes(double t) {
     LaneBooks books[LaneLink::kLanes];
@@ -203,10 +205,13 @@ private:
     }
     return o[1] < o[0] ? std::pair{o[1], 1} : std::pair{o[0], 0};
   }
-  // Every event up to t (key ≤ t), then the clocks and books at t.
+  // Every event up to t (key ≤ t), then the clocks and books at t. On two threads, a run
+  // in which a lane found the order of one loop broken (LaneLink::violate: a late event)
+  // is done again from its start in the merged order, which is the order of reference.
   void run_lanes(double t) {
     start_lanes();
     if (threads_ == 2) {
+      keep_start();
       // Each lane's next event is published before either starts: a lane judges its edge
       // events by what the other has published, which must never be later than its next.
       for (int k = 0; k < LaneLink::kLanes; ++k) {
@@ -216,14 +221,38 @@ private:
       std::thread other([this, t] { lane_[1]->lane_run(t); });
       lane_[0]->lane_run(t);
       other.join();
-    } else {
-      for (;;) {
-        const auto [o, lane] = merged_next();
-        if (!(o.key <= t)) break;
-        lane_[lane]->lane_process(o.e);
+      ++runs_;
+      if (!link_.violated()) {
+        finish_lanes(t);
+        return;
       }
+      ++redone_;
+      back_to_start();
+    }
+    for (;;) {
+      const auto [o, lane] = merged_next();
+      if (!(o.key <= t)) break;
+      lane_[lane]->lane_process(o.e);
     }
     finish_lanes(t);
+  }
+  // The state, agents and timers at the start of a run on two threads (the buffers are
+  // kept: after the first run, a copy without allocation).
+  void keep_start() {
+    s_.snapshot(start_);
+    io::ArchiveWriter w;
+    for (const auto& a : s_.agents) a->save(w);
+    for (const auto& tm : s_.timers) tm->save(w);
+    start_agents_ = w.take();
+  }
+  void back_to_start() {
+    io::ArchiveReader r(start_agents_, "the agents at the start of the run");
+    for (const auto& a : s_.agents) a->load(r);
+    for (const auto& tm : s_.timers) tm->load(r);
+    s_.restore(std::move(start_));
+    link_.configure(s_.grid.ny(), s_.grid.periodic_y(), s_.grid.size());
+    fill();
+    start_lanes();
   }
   // At a rebase stop (the clock at next_rebase_): the epoch moves to now, and the next
   // stop is planned.
@@ -252,6 +281,9 @@ private:
   LaneLink link_;
   std::unique_ptr<Lane> lane_[LaneLink::kLanes];
   double next_rebase_ = kNever;  // plan_rebase
+  SystemState::Saved start_;     // keep_start
+  std::string start_agents_;
+  std::uint64_t runs_ = 0, redone_ = 0;
 };
 
 }  // namespace grainflow::ed

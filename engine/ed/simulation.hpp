@@ -61,9 +61,9 @@ struct Config {
   // calendar runs ≈ 25 % faster at 1.0σ (bench_ed --cell), so that is the default.
   double min_cell_size = 1.0;
   CalendarKind calendar = CalendarKind::bucket;
-  // lanes = 2: the periodic box (no agents, timers, frozen disks or TC model) in two bands
-  // of cell rows, each with its own calendar, run on `threads` threads (1 or 2; the same
-  // bits either way: ParallelLoop). lanes = 1: the one loop (threads must be 1).
+  // lanes = 2: the box in two bands of cell rows, each with its own calendar, run on
+  // `threads` threads (1 or 2; the same bits either way: ParallelLoop), with every agent,
+  // timer and the TC model. lanes = 1: the one loop (threads must be 1).
   int lanes = 1, threads = 1;
 };
 
@@ -146,6 +146,7 @@ public:
 
   // Measurements over the window since the last reset (construction starts one).
   const Stats& stats() const { return s_.stats; }
+  EventLoopBase::LaneRuns lane_runs() const { return loop_->lane_runs(); }
   Observables observables() const { return s_.observables(); }
   void reset_measurements() { s_.reset_measurements(); }
   // Exact totals from the disks (not the incremental books); frozen disks are left out.

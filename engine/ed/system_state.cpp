@@ -54,6 +54,8 @@ void SystemState::absorb_lanes(double t, const LaneBooks* lanes, int n_lanes) {
     stats.events += d.events;
     stats.collisions += d.collisions;
     stats.sliding += d.sliding;
+    stats.tc_elastic += d.tc_elastic;
+    stats.agent_events += d.agent_events;
     stats.cell_crossings += d.cell_crossings;
     stats.stale += d.stale;
     stats.virial += d.virial;
@@ -528,6 +530,46 @@ void SystemState::restore(Saved&& s) noexcept {
   overlap_log.swap(s.overlap_log);
   tag.swap(s.tag);
   next_tag_ = s.next_tag;
+}
+
+void SystemState::snapshot(Saved& s) const {
+  s.now = now_;
+  s.kin = kin_;
+  s.rot = rot_;
+  s.px = px_;
+  s.py = py_;
+  s.mtot = mtot_;
+  s.kxx = kxx_;
+  s.kxy = kxy_;
+  s.kyy = kyy_;
+  s.dmin = dmin_;
+  s.dmax = dmax_;
+  s.n_present = n_present_;
+  s.n_frozen = n_frozen_;
+  s.grown = grown_;
+  s.events_ready = events_ready_;
+  s.stats = stats;
+  s.epoch = epoch_;
+  s.uniform_r = uniform_r_;
+  s.uniform_m = uniform_m_;
+  s.next_rebase = next_rebase_;
+  s.disk = disk;
+  s.body = body;
+  s.counter = counter;
+  s.slot = slot;
+  s.event = event;
+  s.agent_time = agent_time;
+  s.free = free_;
+  s.touched = touched_;
+  s.added = added_;
+  s.removed = removed_;
+  grid.copy_members(s.cells);
+  s.e = rule.e;
+  s.tc = tc;
+  s.last_collision = last_collision;
+  s.overlap_log = overlap_log;
+  s.tag = tag;
+  s.next_tag = next_tag_;
 }
 
 }  // namespace grainflow::ed

@@ -106,7 +106,9 @@ struct LaneBooks {
     py += dpy;
   }
   void add_kinetic_tensor(double m, double vx0, double vy0, double vx1, double vy1) {
-    const TensorStep d = kinetic_tensor_step(m, vx0, vy0, vx1, vy1);
+    add_tensor(kinetic_tensor_step(m, vx0, vy0, vx1, vy1));
+  }
+  void add_tensor(const TensorStep& d) {
     kxx += d.xx;
     kxy += d.xy;
     kyy += d.yy;
@@ -360,12 +362,31 @@ public:
       now_ = t;
     }
   }
-  // Takes in what the lanes of the parallel loop did since they left this state's clock: the clock moves to t (integrating kT at the books as they
-  // were, which the lanes did not change), then each lane's counts, sums, book changes and
-  // their time integrals are added. The total momentum changes only by round-off in the settings the lanes run
-  // (no walls, agents or frozen disks), so the momentum term of kT is integrated at its
-  // value when the lanes left.
+  // Takes in what the lanes of the parallel loop did since they left this state's clock:
+  // the clock moves to t (integrating kT at the books as they were, which the lanes did not
+  // change), then each lane's counts, sums, book changes and their time integrals are
+  // added. The momentum term of kT, and the number of mobile disks that divides it, are
+  // integrated at their values when the lanes left: exact in the periodic box (momentum
+  // changes only by round-off), an approximation over one run between stops where agents
+  // push the disks or take them out (the state's kT at each stop is exact).
   void absorb_lanes(double t, const LaneBooks* lanes, int n_lanes);
+  // For a lane of the parallel loop, whose clock and books are its own: runs `action` (an
+  // agent's action on a disk, an overlap removal) as of the lane's time, the state's clock
+  // reading lane.now meanwhile, and moves what it adds to the state's books into the lane's
+  // (at lane.now). The lanes run such actions one at a time, in the order of one loop
+  // (LaneLink), and read neither this clock nor these books otherwise.
+  template <class F>
+  void act_for_lane(LaneBooks& lane, F&& action) {
+    const double now0 = now_;
+    const double held[7] = {kin_, rot_, px_, py_, kxx_, kxy_, kyy_};
+    now_ = lane.now;
+    kin_ = rot_ = px_ = py_ = kxx_ = kxy_ = kyy_ = 0.0;
+    action();
+    lane.add_kinetic(kin_, rot_, px_, py_);
+    lane.add_tensor(TensorStep{kxx_, kxy_, kyy_});
+    now_ = now0;
+    kin_ = held[0], rot_ = held[1], px_ = held[2], py_ = held[3], kxx_ = held[4], kxy_ = held[5], kyy_ = held[6];
+  }
   void reset_measurements() {
     stats.t0 = now_;
     stats.collisions0 = stats.collisions;
@@ -434,9 +455,12 @@ public:
   // free list, cell membership, event partners); throws grainflow::Error (the reader's
   // mismatch / corrupt / truncated) and changes nothing when it does not fit.
   Saved read_saved(io::ArchiveReader& r) const;
-  // Adopts a record read_saved returned. The calendar must then be rebuilt from the
-  // event records (EventLoopBase::resume).
+  // Adopts a record read_saved (or snapshot) gave. The calendar must then be rebuilt from
+  // the event records (EventLoopBase::resume).
   void restore(Saved&& s) noexcept;
+  // The record restore takes, copied in memory (into `s`'s buffers, kept between calls):
+  // the parallel loop's way back to the start of a run it must do again.
+  void snapshot(Saved& s) const;
 
 private:
   bool take_out(int i);  // remove_disk without the counting; false when the slot was empty

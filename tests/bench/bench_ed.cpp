@@ -172,6 +172,10 @@ int main(int argc, char** argv) try {
       std::printf("%-9d %-10s %14.4g %14.4g %14.4g %11.3f %10.1f %9.1f %9.1f\n", n, sim.calendar(), median(rates),
                   median(crates), median(erates), median(stale), hot / n, double(sim.memory_bytes()) / n, setup);
       std::printf("#   B/disk: %s\n", parts.c_str());
+      if (g_threads == 2)
+        std::printf("#   runs between stops on two threads: %llu, done again in the merged order: %llu\n",
+                    static_cast<unsigned long long>(sim.lane_runs().runs),
+                    static_cast<unsigned long long>(sim.lane_runs().redone));
       std::fflush(stdout);
     }
   }
