@@ -89,25 +89,14 @@ void declare(Schema& s) {
   sys.add_enum(calendar, {"bucket", "cell_heap"}, "bucket",
                "event calendar: bucket queue of one event per disk (fastest), or the seed's heap of cells (§2.4)");
   sys.add_int(lanes, 1,
-              "event loops the box is cut into, as bands of cell rows: 2 runs them on two threads where there are two "
-              "cores (--threads 1: one), with the same results either way, though not the same bits as 1 lane; for "
-              "periodic boxes without obstacle, open stream or TC model")
+              "event loops the box is cut into, as bands of cell rows across y: 2 runs them on two threads where there "
+              "are two cores (--threads 1: one), with the same results either way, though not the same bits as 1 "
+              "lane; needs at least 16 rows of cells")
       .at_least(1)
       .at_most(2);
   sys.add_float(cell_size, 1.2, "target side of the cells (§2.2: ≈ 1.2 σ at η = 0.65)", "σ")
       .above(1.0)
       .with_note("cells must be larger than a disk diameter");
-  s.add_check([](const Scene& sc, SceneCheck& c) {
-    if (sc.get(lanes) < 2) return;
-    const auto p = sc.get(periodic);
-    if (!p[0] || !p[1]) c.fail(lanes.path, "system.lanes = 2 needs boundary.periodic = [true, true]; allowed with walls: system.lanes = 1");
-    if (sc.get(stream_kind) != "periodic")
-      c.fail(lanes.path, "system.lanes = 2 runs without an open boundary.stream; allowed with it: system.lanes = 1");
-    if (sc.has(obstacle)) c.fail(lanes.path, "system.lanes = 2 runs without boundary.obstacle; allowed with it: system.lanes = 1");
-    if (sc.get(tau_tc) > 0.0 || sc.get(tau_tc_step) > 0.0)
-      c.fail(lanes.path, "system.lanes = 2 runs without the TC model (system.tau_tc, tau_tc_step); allowed with it: "
-                         "system.lanes = 1");
-  });
   auto& init = s.section("system.initial", "initial state (the melting lattice, or a particle file)");
   init.add_enum(initial_kind, {"lattice", "file"}, "lattice",
                 "a triangular lattice at area_fraction | n | N that melts, with Maxwell velocities at kT plus U; or "

@@ -331,7 +331,15 @@ public:
                        {"disks_removed_overlap", double(sim_.overlap_removals())},
                        {"collisions_tc_elastic", double(sim_.stats().tc_elastic)},
                        {"tau_tc", sim_.tau_tc()},
-                       {"area_fraction", sim_.area_fraction()}});
+                       {"area_fraction", sim_.area_fraction()},
+                       {"lanes", double(sim_.config().lanes)},
+                       {"threads", double(sim_.config().threads)}});
+    if (sim_.config().lanes == 2) {
+      // Runs between stops on two threads, and those a late event made it do again in the
+      // merged order (ParallelLoop): many of them mean the second thread gains little.
+      const auto r = sim_.lane_runs();
+      f.insert(f.end(), {{"lane_runs", double(r.runs)}, {"lane_runs_redone", double(r.redone)}});
+    }
     return f;
   }
 
