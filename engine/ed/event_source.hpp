@@ -39,6 +39,8 @@ public:
   virtual double event_time(const SystemState& state, int i, const DiskNow& d) const = 0;
   // Acts on disk i at state.now(); the disk is synchronised. Velocities are changed only
   // through SystemState::set_velocity so energy/momentum books and event counters stay right.
+  // It may change disk i (velocity, frozen, removed) and the agent's own state, nothing
+  // else: the two-lane loop runs it while the other lane runs (disks are added by timers).
   virtual void action(SystemState& state, int i) = 0;
   // Mutable state for checkpoints (see the top of this file).
   virtual void save(io::ArchiveWriter& w) const = 0;

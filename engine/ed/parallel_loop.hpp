@@ -15,9 +15,18 @@
 // does not touch, so their sums may differ in the last bits between one and two threads
 // (the disks do not).
 //
-// For the periodic box without agents, frozen disks, open boundaries or the TC model (the
-// equilibrium and cooling boxes, with samplers, thermostats and phases, which act at stops
-// between the lanes' runs); anything else is refused with an error.
+// Everything the one loop runs runs here: particle agents (walls, obstacles, the stream's
+// piston, filter, inlet and outlet planes) act in the order of one loop between the lanes
+// (LaneLink orders their events like edge events), on the state at the lane's time; timers
+// (samplers, thermostats, phases, the dispenser's recharge, the inlet) act at stops between
+// the lanes' runs, where the disks they add are settled; the TC model's overlap removals
+// are done in the order of one loop too (tc_verdict), the raised cutoff taking effect at
+// the next stop. A collision observer is refused.
+//
+// Hard disks give no look-ahead: a chain of collisions can carry an event the other lane
+// mailed late into rows this lane already ran ahead in. A lane detects where that may have
+// happened (LaneLink's stamps) and the run between the two stops is done again from a copy
+// kept at its start, in the merged order, so the bits never depend on the threads.
 #pragma once
 #include <algorithm>
 #include <cmath>
