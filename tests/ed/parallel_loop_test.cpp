@@ -319,3 +319,43 @@ TEST(EdParallelLoop, AStreamPastAnObstacleResumesFromACheckpointWithTheSameBits)
   EXPECT_EQ(run.obstacle->hits(), resumed.obstacle->hits());
   EXPECT_EQ(run.sim->stats().inserted, resumed.sim->stats().inserted);
 }
+
+TEST(EdParallelLoop, AStreamPastAnObstacleMatchesTheOneLoopInStatistics) {
+  // Two lanes move the positions' epoch at other times than one loop, so the runs part in
+  // their bits; what they measure must agree: the stream's density and velocity downstream
+  // of the obstacle, the obstacle's hits, the disks the dispenser fed.
+  struct Measured {
+    double n = 0.0, vx = 0.0, hits = 0.0, inserted = 0.0;
+  };
+  auto measure = [](int lanes) {
+    Dune d(lanes, lanes, 1.0);
+    d.sim->run_until(60.0);  // the stream set up around the obstacle
+    const auto hits0 = d.obstacle->hits();
+    const auto in0 = d.sim->stats().inserted;
+    Measured m;
+    int samples = 0;
+    for (double t = 65.0; t <= 200.0; t += 5.0, ++samples) {
+      d.sim->run_until(t);
+      d.sim->synchronise();
+      for (int i = 0; i < d.sim->size(); ++i) {
+        if (!d.sim->present(i) || d.sim->state().frozen(i)) continue;
+        const ed::Disk& k = d.sim->disks()[i];
+        if (k.x < 45.0 || k.x > 80.0) continue;
+        m.n += 1.0;
+        m.vx += k.vx;
+      }
+    }
+    m.vx /= m.n;
+    m.n /= samples;
+    m.hits = double(d.obstacle->hits() - hits0);
+    m.inserted = double(d.sim->stats().inserted - in0);
+    return m;
+  };
+  const Measured one = measure(1), two = measure(2);
+  std::printf("one loop: n %.1f, vx %.4f, hits %.0f, inserted %.0f; two lanes: n %.1f, vx %.4f, hits %.0f, "
+              "inserted %.0f\n", one.n, one.vx, one.hits, one.inserted, two.n, two.vx, two.hits, two.inserted);
+  EXPECT_NEAR(two.n, one.n, 0.01 * one.n);
+  EXPECT_NEAR(two.vx, one.vx, 0.1 * 0.1);  // 10 % of U
+  EXPECT_NEAR(two.hits, one.hits, 0.1 * one.hits);
+  EXPECT_NEAR(two.inserted, one.inserted, 0.02 * one.inserted);
+}
