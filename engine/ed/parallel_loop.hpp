@@ -30,6 +30,7 @@
 #pragma once
 #include <algorithm>
 #include <cmath>
+#include <exception>
 #include <memory>
 #include <string>
 #include <thread>
@@ -227,9 +228,21 @@ private:
         link_.publish(k, lane_[k]->lane_next());
         link_.taken(k);
       }
-      std::thread other([this, t] { lane_[1]->lane_run(t); });
-      lane_[0]->lane_run(t);
+      // An error in a lane (an agent's action that throws) stops both and is thrown here.
+      std::exception_ptr failed[LaneLink::kLanes];
+      auto lane = [this, t, &failed](int k) {
+        try {
+          lane_[k]->lane_run(t);
+        } catch (...) {
+          failed[k] = std::current_exception();
+          link_.violate();
+        }
+      };
+      std::thread other(lane, 1);
+      lane(0);
       other.join();
+      for (const auto& f : failed)
+        if (f) std::rethrow_exception(f);
       ++runs_;
       if (!link_.violated()) {
         finish_lanes(t);

@@ -74,6 +74,21 @@ private:
   double dt_, next_;
 };
 
+// An agent that meets disk 0 at t = 1 and fails there (an error in a lane's thread).
+class FailsAtOne final : public ed::ParticleAgent {
+public:
+  std::string_view name() const override { return "fails at one"; }
+  void cells(const ed::CellGrid& g, std::vector<int>& out) const override {
+    for (int c = 0; c < g.size(); ++c) out.push_back(c);
+  }
+  double event_time(const ed::SystemState&, int i, const ed::DiskNow& d) const override {
+    return i == 0 && d.t < 1.0 ? 1.0 - d.t : ed::kNever;
+  }
+  void action(ed::SystemState&, int) override { throw grainflow::Error("the agent failed"); }
+  void save(grainflow::io::ArchiveWriter&) const override {}
+  void load(grainflow::io::ArchiveReader&) override {}
+};
+
 // The seed's dune in small (scenes/dune_quick.toml): a dense stream (dispenser piston and
 // recharge, filter freezing and removing disks) past a no-slip obstacle whose random flips
 // come from one stream, elastic to t_cool, then inelastic with the TC model (a phase).
@@ -358,4 +373,10 @@ TEST(EdParallelLoop, AStreamPastAnObstacleMatchesTheOneLoopInStatistics) {
   EXPECT_NEAR(two.vx, one.vx, 0.1 * 0.1);  // 10 % of U
   EXPECT_NEAR(two.hits, one.hits, 0.1 * one.hits);
   EXPECT_NEAR(two.inserted, one.inserted, 0.02 * one.inserted);
+}
+
+TEST(EdParallelLoop, AnErrorInALaneIsThrownToTheCaller) {
+  ed::Simulation sim(box(20000, 2, 2));
+  sim.add_agent(std::make_unique<FailsAtOne>());
+  EXPECT_THROW(sim.run_until(3.0), grainflow::Error);
 }
