@@ -210,6 +210,31 @@ TEST(CliRun, EdLanesRunTheDuneWithTheSameRunOnOneThreadAndTwo) {
   EXPECT_TRUE(contains(json, "\"lane_runs_redone\"")) << json;
 }
 
+TEST(CliRun, EdLanesSayWhenTheyRedidManyRuns) {
+  // A strongly inelastic stream (e = 0.3) clusters on the cut: the lanes do many runs
+  // again in the one-thread order, and the run says so after its closing line.
+  const fs::path out = fresh_dir("run_lanes_advice");
+  const Result r = run("run " + scenes + "/dune_quick.toml -o " + out.string() +
+                       " --set system.box=[90.0,48.0] --set boundary.obstacle.x=30.0 --set boundary.obstacle.y=24.0"
+                       " --set boundary.obstacle.D=12.0 --set 'phase[1].at=30.0' --set 'phase[1].e=0.3'"
+                       " --set 'phase[1].obstacle_r=0.3' --set run.until=250.0 --set sample.exposure=50.0"
+                       " --set 'sample.bins=[45,24]' --set system.lanes=2 --set output.png=false"
+                       " --set output.mp4=false --threads 2");
+  ASSERT_EQ(r.status, 0) << r.output;
+  std::ifstream json(out / "run.json");
+  const std::string text((std::istreambuf_iterator<char>(json)), std::istreambuf_iterator<char>());
+  auto figure = [&text](const std::string& name) {
+    const auto at = text.find("\"" + name + "\": ");
+    return at == std::string::npos ? -1.0 : std::stod(text.substr(at + name.size() + 4));
+  };
+  const double runs = figure("lane_runs"), redone = figure("lane_runs_redone");
+  ASSERT_GE(runs, 8.0) << text;
+  ASSERT_GE(redone, 0.0) << text;
+  // The advice follows the counts (a quarter done again); here it is nearly always given.
+  EXPECT_EQ(contains(r.output, "were done again in the one-thread order"), 4.0 * redone > runs) << r.output;
+  std::printf("  %g of %g runs done again\n", redone, runs);
+}
+
 TEST(CliRun, DemFreeFallFollowsGravityAndDrawsPanels) {
   const fs::path out = fresh_dir("run_dem");
   const Result r = run("run " + scenes + "/dem_freefall_box.toml -o " + out.string() +

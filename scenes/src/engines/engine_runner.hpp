@@ -58,6 +58,9 @@ public:
   // Fingerprint of the exact state (core::StateDigest, hex) for run.json: equal digests
   // mean bit-identical runs. Empty when the engine has none.
   virtual std::string state_digest() const { return {}; }
+  // Advice on how the run went, printed after the closing line (e.g. a setting that cost
+  // more than it gained). Empty: nothing to say.
+  virtual std::string advice() const { return {}; }
 
   // Checkpoints (output.checkpoint_every, SIGINT/SIGTERM, run.max_wall): every mutable
   // bit of the engine's state, the measurement windows of stats rows and frames included.

@@ -566,6 +566,10 @@ int run_scene(const Scene& scene, const RunOptions& opt) {
                 status == RunStatus::Complete ? "complete" : "interrupted", static_cast<long long>(st.frame_index),
                 runner->time(), runner->work() / std::max(st.engine_seconds, 1e-9), runner->work_unit().c_str(),
                 record.wall_time_s, folder.dir().c_str());
+  if (const std::string a = runner->advice(); !a.empty()) {
+    std::fflush(stdout);
+    std::fprintf(stderr, "grainflow: %s\n", a.c_str());
+  }
   return status == RunStatus::Complete ? 0 : 130;
 }
 

@@ -320,6 +320,15 @@ public:
 
   double work() const override { return double(sim_.stats().collisions); }
   std::string work_unit() const override { return "collisions"; }
+  std::string advice() const override {
+    const auto r = sim_.lane_runs();
+    // A run done again goes at one thread's pace, after the two-thread try is thrown away.
+    if (r.runs >= 8 && 4 * r.redone > r.runs)
+      return fmt::format("{} of {} runs between stops were done again in the one-thread order (chains of collisions "
+                         "across the cut, e.g. a dense inelastic cluster on it): two lanes gained little or lost; "
+                         "system.lanes = 1 may be as fast", r.redone, r.runs);
+    return {};
+  }
   std::vector<std::pair<std::string, double>> figures() const override {
     std::vector<std::pair<std::string, double>> f;
     for (const auto& a : agents_) a->figures(f);
