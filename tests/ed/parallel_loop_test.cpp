@@ -249,14 +249,7 @@ TEST(EdParallelLoop, OverlapRemovalsOfTheTcModelGiveTheSameBitsOnOneThreadAndTwo
   // tc_model_test's collapsing box (e = 0.5, τ_TC from 0 in steps): its removals come in
   // events a lane took as inner, which wait for the other lane's order and are done then.
   auto make = [](int threads) {
-    ed::Config c;
-    c.lx = c.ly = 50.0;
-    c.area_fraction = 0.65;
-    c.kT = 0.02;
-    c.seed = 3;
-    c.e = 0.5;
-    c.tau_tc = 0.0;
-    c.tau_tc_step = 1e-4;
+    ed::Config c = ed::test::collapsing_box();
     c.lanes = 2;
     c.threads = threads;
     return std::make_unique<ed::Simulation>(c);

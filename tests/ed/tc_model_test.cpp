@@ -250,14 +250,7 @@ TEST(TcModel, AnOverlapRemovesTheDiskLogsItAndRaisesTheCutoff) {
 // removes the offending disk, τ_TC becomes the step, and the run reaches its target.
 // Without the step the box collapses (its clock stalls at t ≈ 98.6): CollapseGuard says so.
 TEST(TcModel, ACollapseRemovesTheOffenderRaisesTheCutoffAndTheRunGoesOn) {
-  ed::Config c;
-  c.lx = c.ly = 50.0;
-  c.area_fraction = 0.65;
-  c.kT = 0.02;
-  c.seed = 3;
-  c.e = 0.5;
-  c.tau_tc = 0.0;
-  c.tau_tc_step = 1e-4;
+  ed::Config c = ed::test::collapsing_box();
   {
     ed::Simulation sim(c);
     const int n0 = sim.count();
