@@ -54,6 +54,9 @@ public:
     std::uint64_t runs = 0, redone = 0;
   };
   virtual LaneRuns lane_runs() const { return {}; }
+  // Memory the two-lane loop keeps besides the state and its calendars: the copy a run is
+  // done again from, and the stamps (both cold: written once a run, or near the cut only).
+  virtual std::size_t lane_bytes() const { return 0; }
   std::function<void(const CollisionRecord&)> on_collision;  // empty: no tracing
 };
 

@@ -84,6 +84,10 @@ public:
     violated_.store(false, std::memory_order_relaxed);
   }
   void violate() { violated_.store(true, std::memory_order_release); }
+  std::size_t bytes() const {
+    return cell_time_.capacity() * sizeof(double) + owner_.capacity() + edge_.capacity() + stamp_row_.capacity() +
+           sizeof(box_);
+  }
   bool violated() const { return violated_.load(std::memory_order_acquire); }
   bool edge_row(int r) const { return edge_[static_cast<std::size_t>(r)] != 0; }
   bool stamp_row(int r) const { return stamp_row_[static_cast<std::size_t>(r)] != 0; }

@@ -133,6 +133,7 @@ public:
   const char* calendar_name() const override { return BucketCalendar::kName; }
   int threads() const { return threads_; }
   LaneRuns lane_runs() const override { return {runs_, redone_}; }
+  std::size_t lane_bytes() const override { return start_.bytes() + start_agents_.capacity() + link_.bytes(); }
 
 private:
   void check_supported() const {

@@ -390,7 +390,8 @@ std::vector<Simulation::MemoryPart> Simulation::memory_parts() const {
           {"cell map", s_.grid.memory_bytes(), true},
           {"calendar", loop_->calendar_bytes(), true},
           {"ids", s_.tag.capacity() * sizeof(std::int64_t), false},
-          {"TC times", s_.last_collision.capacity() * sizeof(double), s_.tc_on()}};
+          {"TC times", s_.last_collision.capacity() * sizeof(double), s_.tc_on()},
+          {"lanes' restart copy and stamps", loop_->lane_bytes(), false}};
 }
 
 std::size_t Simulation::memory_bytes() const {

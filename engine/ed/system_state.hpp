@@ -448,6 +448,13 @@ public:
     std::vector<OverlapRemoval> overlap_log;
     std::vector<std::int64_t> tag;
     std::int64_t next_tag = 1;
+    // Bytes its arrays hold (their capacities).
+    std::size_t bytes() const {
+      auto b = [](const auto& v) { return v.capacity() * sizeof(v[0]); };
+      return b(disk) + b(body) + b(counter) + b(slot) + b(event) + b(agent_time) + b(touched) + b(free) + b(added) +
+             b(removed) + b(cells.slots) + b(cells.cell) + b(cells.pos) + b(cells.packed) + b(last_collision) +
+             b(overlap_log) + b(tag);
+    }
   };
   void save(io::ArchiveWriter& w) const;
   // Reads what save() wrote into a separate record, checked against this state (grid
