@@ -25,7 +25,6 @@ struct CollisionRecord {
   double t;
 };
 
-
 class EventLoopBase {
 public:
   virtual ~EventLoopBase() = default;
@@ -141,8 +140,8 @@ public:
       mine_[static_cast<std::size_t>(i)] = s_.present(i) && owner(i) == me_;
     cal_.reset(s_.calendar_keys(), &s_.grid, s_.size(), 0, [this](int e) { return owns(e); });
   }
-  // Predicts every disk present on this lane's clock (the records only; lane_fill then).
-  // Every disk (the records only; lane_fill then), with unscheduled records for n_timers.
+  // Predicts every disk present on this lane's clock, with unscheduled records for n_timers
+  // timers (the records only; lane_fill then).
   void lane_predict_all(int n_timers) { predict_all(n_timers); }
   // Disk i predicted afresh on this lane's clock (the record only; lane_fill then).
   void lane_predict(int i) { predict_full(i); }
@@ -242,10 +241,8 @@ private:
   Stamped before_stamp(int e) const {
     Stamped c;
     const CellGrid& g = s_.grid;
-    const int own = g.cell(e), iy = g.iy(own);
-    const bool near = link_->stamp_row(iy) || link_->stamp_row(iy > 0 ? iy - 1 : g.ny() - 1) ||
-                      link_->stamp_row(iy + 1 < g.ny() ? iy + 1 : 0);
-    if (!near) return c;
+    const int own = g.cell(e);
+    if (!link_->near_stamp_row(g.iy(own))) return c;
     c.own = own;
     const NextEvent& ev = s_.event[e];
     if (!ev.crossing && ev.kind == EventKind::Pair) c.partner = g.cell(static_cast<int>(ev.partner));

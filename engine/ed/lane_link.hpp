@@ -44,15 +44,13 @@ public:
     cell_time_.assign(static_cast<std::size_t>(n_cells), -std::numeric_limits<double>::infinity());
     violated_.store(false, std::memory_order_relaxed);
     owner_.assign(static_cast<std::size_t>(ny), 0);
-    edge_.assign(static_cast<std::size_t>(ny), 0);
-    stamp_row_.assign(static_cast<std::size_t>(ny), 0);
+    depth_.assign(static_cast<std::size_t>(ny), 0);
     const int half = ny / 2;
     for (int r = 0; r < ny; ++r) {
       owner_[static_cast<std::size_t>(r)] = r < half ? 0 : 1;
       int d = r < half ? half - 1 - r : r - half;  // rows to the middle cut
       if (periodic_y) d = std::min(d, r < half ? r : ny - 1 - r);  // or to the wrapped one
-      edge_[static_cast<std::size_t>(r)] = d < kEdgeRows ? 1 : 0;
-      stamp_row_[static_cast<std::size_t>(r)] = d < kStampRows ? 1 : 0;
+      depth_[static_cast<std::size_t>(r)] = d;
     }
     for (auto& p : pub_) publish_raw(p, EventOrder{});
     for (auto& m : box_) {
@@ -79,18 +77,17 @@ public:
     if (s < t) s = t;
   }
   double stamp_of(int c) const { return cell_time_[static_cast<std::size_t>(c)]; }
-  void clear_stamps() {
-    std::fill(cell_time_.begin(), cell_time_.end(), -std::numeric_limits<double>::infinity());
-    violated_.store(false, std::memory_order_relaxed);
-  }
   void violate() { violated_.store(true, std::memory_order_release); }
+  bool violated() const { return violated_.load(std::memory_order_acquire); }
   std::size_t bytes() const {
-    return cell_time_.capacity() * sizeof(double) + owner_.capacity() + edge_.capacity() + stamp_row_.capacity() +
+    return cell_time_.capacity() * sizeof(double) + owner_.capacity() + depth_.capacity() * sizeof(depth_[0]) +
            sizeof(box_);
   }
-  bool violated() const { return violated_.load(std::memory_order_acquire); }
-  bool edge_row(int r) const { return edge_[static_cast<std::size_t>(r)] != 0; }
-  bool stamp_row(int r) const { return stamp_row_[static_cast<std::size_t>(r)] != 0; }
+  // Rows by their distance to the other band: edge rows, rows that keep stamps, and rows
+  // next to those (an event there may change a cell of a stamped row: a partner, a crossing).
+  bool edge_row(int r) const { return depth(r) < kEdgeRows; }
+  bool stamp_row(int r) const { return depth(r) < kStampRows; }
+  bool near_stamp_row(int r) const { return depth(r) <= kStampRows; }
 
   // ---- published next events ----------------------------------------------------------
   // Lane k is about to process (or is processing) o, and has processed everything before it.
@@ -179,7 +176,9 @@ private:
     std::uint64_t read = 0;                          // the receiver's own: read up to here
     EventOrder item[kMailbox];
   };
-  std::vector<std::uint8_t> owner_, edge_, stamp_row_;
+  int depth(int r) const { return depth_[static_cast<std::size_t>(r)]; }
+  std::vector<std::uint8_t> owner_;
+  std::vector<std::int32_t> depth_;  // rows to the nearest cut
   std::vector<double> cell_time_;  // stamps
   std::atomic<bool> violated_{false};
   Published pub_[kLanes];

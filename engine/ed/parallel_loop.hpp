@@ -131,7 +131,6 @@ public:
   }
   std::size_t calendar_bytes() const override { return lane_[0]->calendar_bytes() + lane_[1]->calendar_bytes(); }
   const char* calendar_name() const override { return BucketCalendar::kName; }
-  int threads() const { return threads_; }
   LaneRuns lane_runs() const override { return {runs_, redone_}; }
   std::size_t lane_bytes() const override { return start_.bytes() + start_agents_.capacity() + link_.bytes(); }
 

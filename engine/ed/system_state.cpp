@@ -532,6 +532,7 @@ void SystemState::restore(Saved&& s) noexcept {
   next_tag_ = s.next_tag;
 }
 
+// Field for field what restore() takes back (a new field of Saved: both).
 void SystemState::snapshot(Saved& s) const {
   s.now = now_;
   s.kin = kin_;
