@@ -2,9 +2,10 @@
 // complexity O(1) priority queue for event driven molecular dynamics simulations",
 // J. Comput. Phys. 221, 615) laid out in two tiers, as in a ladder queue (Tang, Goh &
 // Thng 2005, ACM TOMACS 15, 175): a window of fine time buckets of width dt, grouped F at a
-// time into coarse buckets; only the coarse bucket being processed is spread over its fine
-// buckets, later events are appended unsorted to their coarse bucket, and events beyond the
-// window to an overflow. A small binary heap orders the fine bucket being processed.
+// time into coarse buckets; only the coarse bucket being processed and the next one are
+// spread over fine buckets (a ring of 2F: the next one a chunk at a time, see
+// spread_chunk), later events are appended unsorted to their coarse bucket, and events
+// beyond the window to an overflow. A small binary heap orders the fine bucket being processed.
 // Buckets are chains of arrays of entry ids (chunks from one pool), not linked lists of
 // entries: at N ≳ 10^5 every list link an update touches is a cache miss (the old
 // neighbours and the old head), while an append writes the end of a chunk that is in
@@ -75,7 +76,7 @@ public:
     heap_.reserve(64);
     pool_.clear();
     free_ = -1;
-    // Buckets 0..F−1 are the fine ones, F..F+nc−1 the coarse ones, F+nc the overflow.
+    // Buckets 0..2F−1 are the ring of fine ones, then the coarse ones, then the overflow.
     bucket_.assign(static_cast<std::size_t>(overflow_id()) + 1, Bucket{});
     n_copies_ = 0;
     std::vector<std::int32_t> all;
@@ -103,12 +104,14 @@ public:
         rebuild();
         continue;
       }
-      const std::int32_t s = fine_of(rel);
-      if (s == 0) {
+      if (fine_of(rel) == 0) {
+        spread_rest();  // the coarse bucket coming up, spread so far a chunk at a time
         kcur_ = coarse_of(rel);
-        spread(kcur_);
+        begin_spread();
+      } else {
+        spread_chunk();
       }
-      dump(s);
+      dump(ring_of(rel));
     }
   }
 
@@ -135,10 +138,14 @@ private:
   bool stale(const HeapCopy& c) const { return key_[c.e] != c.key; }
   static bool less(const HeapCopy& a, const HeapCopy& b) { return a.key < b.key || (a.key == b.key && a.e < b.e); }
 
-  std::int32_t overflow_id() const { return f_ + nc_; }
-  // Bucket rel ≥ 0 of the window: its coarse bucket, and its place in it.
+  // Bucket ids: the ring of 2F fine buckets, then the nc coarse ones, then the overflow.
+  std::int32_t coarse_id(std::int32_t k) const { return 2 * f_ + k; }
+  std::int32_t overflow_id() const { return 2 * f_ + nc_; }
+  // Bucket rel ≥ 0 of the window: its coarse bucket, its place in it, and its fine bucket
+  // in the ring (which holds the coarse bucket being processed and the next one).
   std::int32_t coarse_of(std::int64_t rel) const { return static_cast<std::int32_t>(rel >> f_shift_); }
   std::int32_t fine_of(std::int64_t rel) const { return static_cast<std::int32_t>(rel & (f_ - 1)); }
+  std::int32_t ring_of(std::int64_t rel) const { return static_cast<std::int32_t>(rel & (2 * f_ - 1)); }
 
   // floor(t / dt) without the libm call std::floor compiles to on baseline x86-64, and with
   // a multiplication: any bucket map monotone in t gives the same event order (entries of
@@ -149,8 +156,9 @@ private:
     return b - (q < static_cast<double>(b));
   }
   // Where a copy of key t belongs now: kHeap (the fine bucket being processed, or earlier),
-  // a fine bucket 0..F−1 of the coarse bucket being processed, coarse bucket k as F + k,
-  // the overflow as F + nc, or kNowhere (an infinite key).
+  // its fine bucket in the ring (a key in the coarse bucket being processed, or in the next
+  // one once its spreading has begun), its coarse bucket, the overflow, or kNowhere (an
+  // infinite key).
   static constexpr std::int32_t kNowhere = -1;
   static constexpr std::int32_t kHeap = -2;
   std::int32_t place(double t) const {
@@ -160,7 +168,7 @@ private:
     const std::int64_t rel = b - w0_;
     if (rel >= nb_) return overflow_id();
     const std::int32_t k = coarse_of(rel);
-    return k == kcur_ ? fine_of(rel) : f_ + k;
+    return k == kcur_ || k == knext_ ? ring_of(rel) : coarse_id(k);
   }
 
   void insert(int e) {
@@ -192,16 +200,18 @@ private:
     pool_[static_cast<std::size_t>(c)].next = -1;
     return c;
   }
-  // Calls f(e) for every id bucket `id` holds (stale copies included), then empties it
-  // and returns its chunks to the pool. Each chunk's keys (which f reads: a miss each, at
-  // random) are prefetched together before f sees them.
+  // Calls f(e) for every id in the first max_chunks chunks of bucket `id` (stale copies
+  // included), takes them out of it and returns them to the pool. Each chunk's keys (which
+  // f reads: a miss each, at random) are prefetched together before f sees them.
   // hint_cells: also fetch each disk's cell entry (the bucket goes to the heap: its events
   // come next, and the loop starts each by reading the disk's cell).
+  static constexpr int kAllChunks = std::numeric_limits<int>::max();
   template <bool hint_cells = false, class F>
-  void drain(std::int32_t id, F&& f) {
+  void drain(std::int32_t id, int max_chunks, F&& f) {
     const Bucket b = bucket_[static_cast<std::size_t>(id)];
     bucket_[static_cast<std::size_t>(id)] = Bucket{};
-    for (std::int32_t c = b.head; c >= 0;) {
+    std::int32_t c = b.head;
+    for (int taken = 0; c >= 0 && taken < max_chunks; ++taken) {
       // By index, not by reference: f may append to other buckets and so grow the pool.
       const std::size_t ci = static_cast<std::size_t>(c);
       const std::int32_t next = pool_[ci].next;
@@ -219,25 +229,39 @@ private:
       free_ = c;
       c = next;
     }
+    if (c >= 0) {  // the chunks left stay the bucket's (f appended nothing to it)
+      Bucket& rest = bucket_[static_cast<std::size_t>(id)];
+      rest.head = c;
+      rest.tail = b.tail;
+      rest.n = b.n;
+    }
   }
 
-  // Coarse bucket k comes up: its live copies go to their fine buckets (or to the heap,
-  // those of the current fine bucket). A live copy's key now falls in coarse bucket k,
-  // whose fine buckets place() names.
-  void spread(std::int32_t k) {
-    drain(f_ + k, [&](std::int32_t e) {
-      const double t = key_[e];
-      const std::int32_t id = place(t);
-      if (id == kHeap) {
-        if (bucket_of(t) == cur_) heap_push({t, e});  // else stale: its key falls in an earlier bucket
-      } else if (id >= 0 && id < f_) {
-        list_push(id, e);
-      }
-    });
+  // The next coarse bucket is spread into the ring over the fine buckets of the current one,
+  // a chunk at each: spreading a whole coarse bucket at once (about a thousand copies)
+  // took tens of microseconds, long enough to hold up the other lane of the parallel loop
+  // at its next edge event. Once spreading has begun (knext_), new copies of keys in that
+  // coarse bucket go straight to the ring, so its coarse bucket only shrinks. A copy
+  // counts when its key falls in the coarse bucket being spread (the window holds it).
+  void begin_spread() {
+    knext_ = kcur_ + 1 < nc_ ? kcur_ + 1 : -1;
   }
-  // Fine bucket s (the current one) comes up: its live copies go to the heap.
+  void spread_chunk() {
+    if (knext_ >= 0) drain(coarse_id(knext_), 1, [this](std::int32_t e) { spread_copy(e); });
+  }
+  // The rest of the coarse bucket coming up (the one being spread), at its first fine bucket.
+  void spread_rest() {
+    if (knext_ >= 0) drain(coarse_id(knext_), kAllChunks, [this](std::int32_t e) { spread_copy(e); });
+  }
+  void spread_copy(std::int32_t e) {
+    const double t = key_[e];
+    if (!std::isfinite(t)) return;
+    const std::int64_t rel = bucket_of(t) - w0_;
+    if (rel >= 0 && rel < nb_ && coarse_of(rel) == knext_) list_push(ring_of(rel), e);
+  }
+  // Fine bucket s of the ring (the current one) comes up: its live copies go to the heap.
   void dump(std::int32_t s) {
-    drain<true>(s, [&](std::int32_t e) {
+    drain<true>(s, kAllChunks, [&](std::int32_t e) {
       const double t = key_[e];
       if (std::isfinite(t) && bucket_of(t) == cur_) heap_push({t, e});
     });
@@ -250,7 +274,7 @@ private:
     const std::int32_t id = overflow_id();
     // cur_ has just passed the window, so place() would name the heap for keys in its
     // first bucket beyond: a copy counts when its key lies beyond the window.
-    drain(id, [&](std::int32_t e) {
+    drain(id, kAllChunks, [&](std::int32_t e) {
       const double t = key_[e];
       if (std::isfinite(t) && bucket_of(t) - w0_ >= nb_) live.push_back(e);
     });
@@ -265,6 +289,7 @@ private:
     heap_.clear();
     cur_ = w0_ = 0;
     kcur_ = 0;
+    knext_ = -1;
     if (entries.empty()) return;
     double tmin = std::numeric_limits<double>::infinity();
     for (int e : entries) tmin = std::min(tmin, key_[e]);
@@ -280,6 +305,7 @@ private:
     inv_dt_ = 1.0 / dt;
     cur_ = bucket_of(tmin);
     w0_ = cur_;
+    begin_spread();  // the first two coarse buckets go straight to the ring
     for (int e : entries) insert(e);
   }
 
@@ -319,6 +345,7 @@ private:
   const CellGrid* grid_ = nullptr;  // for cache hints only
   int ne_ = 0, nd_ = 0;
   std::int32_t nc_ = 0, kcur_ = 0;  // coarse buckets in the window; the one being processed
+  std::int32_t knext_ = -1;         // the next one, being spread into the ring (or none)
   std::int64_t nb_ = 0, cur_ = 0, w0_ = 0;
   std::int64_t n_copies_ = 0;  // ids in the buckets, stale ones included
   double dt_ = 0.0, inv_dt_ = 0.0;
