@@ -38,19 +38,21 @@ public:
   // that reads a row farther in counts as a violation.
   static constexpr int kStampRows = kEdgeRows + 3;
 
-  // ny rows, the first half (rounded down) to lane 0; periodic_y: the last row meets the first;
-  // n_cells cells in all.
+  // ny rows of n_cells / ny cells each, the first half of the rows (rounded down) to lane 0;
+  // periodic_y: the last row meets the first.
   void configure(int ny, bool periodic_y, int n_cells) {
     cell_time_.assign(static_cast<std::size_t>(n_cells), -std::numeric_limits<double>::infinity());
     violated_.store(false, std::memory_order_relaxed);
-    owner_.assign(static_cast<std::size_t>(ny), 0);
-    depth_.assign(static_cast<std::size_t>(ny), 0);
-    const int half = ny / 2;
+    row_class_.assign(static_cast<std::size_t>(ny), 0);
+    const int half = ny / 2, nx = ny > 0 ? n_cells / ny : 1;
+    inv_nx_ = 1.0 / nx;
     for (int r = 0; r < ny; ++r) {
-      owner_[static_cast<std::size_t>(r)] = r < half ? 0 : 1;
       int d = r < half ? half - 1 - r : r - half;  // rows to the middle cut
       if (periodic_y) d = std::min(d, r < half ? r : ny - 1 - r);  // or to the wrapped one
-      depth_[static_cast<std::size_t>(r)] = d;
+      const std::uint8_t k = static_cast<std::uint8_t>((r < half ? 0 : kLaneOne) | (d < kEdgeRows ? kEdge : 0) |
+                                                       (d < kStampRows ? kStamped : 0) |
+                                                       (d <= kStampRows ? kNearStamped : 0));
+      row_class_[static_cast<std::size_t>(r)] = k;
     }
     for (auto& p : pub_) publish_raw(p, EventOrder{});
     for (auto& m : box_) {
@@ -59,7 +61,7 @@ public:
       m.read = 0;  // else a restart after mail would skip the first items sent
     }
   }
-  int owner_of_row(int r) const { return owner_[static_cast<std::size_t>(r)]; }
+  int owner_of_cell(int c) const { return cell_class(c) & kLaneOne; }
 
   // ---- late events ----------------------------------------------------------------------
   // A lane runs its inner events without waiting, so an event the other lane mails it may
@@ -80,18 +82,24 @@ public:
   void violate() { violated_.store(true, std::memory_order_release); }
   bool violated() const { return violated_.load(std::memory_order_acquire); }
   std::size_t bytes() const {
-    return cell_time_.capacity() * sizeof(double) + owner_.capacity() + depth_.capacity() * sizeof(depth_[0]) +
-           sizeof(box_);
+    return cell_time_.capacity() * sizeof(double) + row_class_.capacity() + sizeof(box_);
   }
-  // Rows by their distance to the other band: edge rows, rows that keep stamps, and rows
-  // next to those (an event there may change a cell of a stamped row: a partner, a crossing).
-  bool edge_row(int r) const { return depth(r) < kEdgeRows; }
-  bool stamp_row(int r) const { return depth(r) < kStampRows; }
-  bool near_stamp_row(int r) const { return depth(r) <= kStampRows; }
+  // Cells by their row's distance to the other band: edge rows, rows that keep stamps, and
+  // rows next to those (an event there may change a cell of a stamped row: a partner, a
+  // crossing).
+  bool edge_cell(int c) const { return (cell_class(c) & kEdge) != 0; }
+  bool stamp_cell(int c) const { return (cell_class(c) & kStamped) != 0; }
+  bool near_stamp_cell(int c) const { return (cell_class(c) & kNearStamped) != 0; }
 
   // ---- published next events ----------------------------------------------------------
   // Lane k is about to process (or is processing) o, and has processed everything before it.
-  void publish(int k, EventOrder o) { publish_raw(pub_[k], o); }
+  // Unchanged (a lane waiting on the other), nothing is written: a store would take the
+  // line from the other lane's cache, which reads it while it waits in turn.
+  void publish(int k, EventOrder o) {
+    Published& p = pub_[k];
+    if (p.key.load(std::memory_order_relaxed) == o.key && p.e.load(std::memory_order_relaxed) == o.e) return;
+    publish_raw(p, o);
+  }
   EventOrder published(int k) const {
     const Published& p = pub_[k];
     for (;;) {
@@ -121,10 +129,14 @@ public:
   void take(int to, F&& f) {
     Mailbox& m = box_[to];
     const std::uint64_t h = m.head.load(std::memory_order_acquire);
+    if (h == m.read) return;  // no store: the line is the sender's to read (tail)
     for (std::uint64_t k = m.read; k < h; ++k) f(m.item[k % kMailbox].e);
     m.read = h;
   }
-  void taken(int to) { box_[to].tail.store(box_[to].read, std::memory_order_release); }
+  void taken(int to) {
+    Mailbox& m = box_[to];
+    if (m.tail.load(std::memory_order_relaxed) != m.read) m.tail.store(m.read, std::memory_order_release);
+  }
   bool mail_waiting(int to) const {
     return box_[to].head.load(std::memory_order_acquire) != box_[to].read;
   }
@@ -156,7 +168,11 @@ public:
   }
 
 private:
-  struct alignas(64) Published {
+  // What one lane writes while the other reads it sits alone on a 128-byte pair of cache
+  // lines (the adjacent-line prefetcher moves lines in pairs): a line shared with what the
+  // other lane writes would bounce between the cores at every event.
+  static constexpr std::size_t kApart = 128;
+  struct alignas(kApart) Published {
     std::atomic<std::uint64_t> seq{0};
     std::atomic<double> key{std::numeric_limits<double>::infinity()};
     std::atomic<int> e{-1};
@@ -171,16 +187,23 @@ private:
   }
   static constexpr std::uint64_t kMailbox = 4096;
   struct Mailbox {
-    alignas(64) std::atomic<std::uint64_t> head{0};  // written by the sender
-    alignas(64) std::atomic<std::uint64_t> tail{0};  // written by the receiver: taken up to here
-    std::uint64_t read = 0;                          // the receiver's own: read up to here
-    EventOrder item[kMailbox];
+    alignas(kApart) std::atomic<std::uint64_t> head{0};  // written by the sender
+    alignas(kApart) std::atomic<std::uint64_t> tail{0};  // written by the receiver: taken up to here
+    std::uint64_t read = 0;                              // the receiver's own: read up to here
+    alignas(kApart) EventOrder item[kMailbox];
   };
-  int depth(int r) const { return depth_[static_cast<std::size_t>(r)]; }
-  std::vector<std::uint8_t> owner_;
-  std::vector<std::int32_t> depth_;  // rows to the nearest cut
+  static constexpr std::uint8_t kLaneOne = 1, kEdge = 2, kStamped = 4, kNearStamped = 8;
+  // What the lanes ask of a cell at every event, by its row: a table of a byte a row (a
+  // table by cell missed the cache), and the row c / nx by a multiplication, not an
+  // integer division: floor((c + ½)/nx) is exact in doubles, the fraction being at least
+  // ½/nx away from an integer.
+  std::uint8_t cell_class(int c) const {
+    return row_class_[static_cast<std::size_t>((c + 0.5) * inv_nx_)];
+  }
+  std::vector<std::uint8_t> row_class_;  // owner and distance class of each row (configure)
+  double inv_nx_ = 1.0;
   std::vector<double> cell_time_;  // stamps
-  std::atomic<bool> violated_{false};
+  alignas(kApart) std::atomic<bool> violated_{false};
   Published pub_[kLanes];
   Mailbox box_[kLanes];
 };
