@@ -24,6 +24,7 @@ CellGrid::CellGrid(double lx, double ly, bool periodic_x, bool periodic_y, doubl
                             lx, ly, nx_, ny_, min_cell, need_x, need_y));
   w_ = lx / nx_;
   h_ = ly / ny_;
+  inv_nx_ = 1.0 / nx_;
   const double d = min_diameter;
   if (!(d > 0.0)) throw Error(fmt::format("ed: smallest disk diameter {} must be positive", d));
   const double cap = std::floor(2.0 * w_ * h_ / (std::sqrt(3.0) * d * d) + (w_ + h_) / d + 1.0);

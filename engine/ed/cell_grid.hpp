@@ -33,8 +33,11 @@ public:
   bool periodic_x() const { return px_; }
   bool periodic_y() const { return py_; }
   int index(int ix, int iy) const { return iy * nx_ + ix; }
-  int ix(int c) const { return c % nx_; }
-  int iy(int c) const { return c / nx_; }
+  // The row by a multiplication, not an integer division (the event loop asks it at every
+  // event): floor((c + ½)/nx) is exact in doubles, its fraction being at least ½/nx away
+  // from an integer, far above the rounding (cells number < 2^31).
+  int ix(int c) const { return c - iy(c) * nx_; }
+  int iy(int c) const { return static_cast<int>((c + 0.5) * inv_nx_); }
   // Cell of a point inside the box (clamped to the grid against round-off at the edges).
   int cell_of_point(double x, double y) const;
 
@@ -174,6 +177,7 @@ private:
   }
 
   int nx_ = 0, ny_ = 0;
+  double inv_nx_ = 0.0;  // 1 / nx_ (iy)
   double w_ = 0.0, h_ = 0.0, lx_ = 0.0, ly_ = 0.0;
   bool px_ = false, py_ = false;
   void overflow(int c) const;  // throws: only overlapping disks can overfill a cell

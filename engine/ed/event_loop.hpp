@@ -241,7 +241,7 @@ private:
     Stamped c;
     const CellGrid& g = s_.grid;
     const int own = g.cell(e);
-    if (!link_->near_stamp_cell(own)) return c;
+    if (!link_->near_stamp_row(g.iy(own))) return c;
     c.own = own;
     const NextEvent& ev = s_.event[e];
     if (!ev.crossing && ev.kind == EventKind::Pair) c.partner = g.cell(static_cast<int>(ev.partner));
@@ -254,7 +254,7 @@ private:
     if (c.partner >= 0) stamp(c.partner, t);
   }
   void stamp(int c, double t) {
-    if (link_->stamp_cell(c)) link_->stamp(c, t);
+    if (link_->stamp_row(s_.grid.iy(c))) link_->stamp(c, t);
   }
   // Does event o, later than one this lane did, read a cell stamped at or after its time?
   // It reads the 3×3 blocks around its parties' cells (a crossing's new block lies in the
@@ -272,7 +272,7 @@ private:
       int cy = g.iy(c) + ky;
       double sy = 0.0;
       if (!wrap(cy, g.ny(), g.periodic_y(), g.ly(), sy)) continue;
-      if (!link_->stamp_cell(g.index(0, cy))) return true;  // a row beyond the stamped ones
+      if (!link_->stamp_row(cy)) return true;  // a row beyond the stamped ones
       for (int kx = -reach; kx <= reach; ++kx) {
         int cx = g.ix(c) + kx;
         double sx = 0.0;
@@ -332,8 +332,8 @@ private:
     const std::uint64_t bit = std::uint64_t{1} << (e % 64);
     w = mine ? w | bit : w & ~bit;
   }
-  int owner(int i) const { return link_->owner_of_cell(s_.grid.cell(i)); }
-  bool edge_row_of(int i) const { return link_->edge_cell(s_.grid.cell(i)); }
+  int owner(int i) const { return link_->owner_of_row(s_.grid.iy(s_.grid.cell(i))); }
+  bool edge_row_of(int i) const { return link_->edge_row(s_.grid.iy(s_.grid.cell(i))); }
   // Must this lane's event of disk i wait for the other lane? When i lies in an edge row,
   // or its record names a partner (a pair event, or one held behind a crossing) that is
   // not this lane's or lies in an edge row: everything such an event reads is then

@@ -38,14 +38,13 @@ public:
   // that reads a row farther in counts as a violation.
   static constexpr int kStampRows = kEdgeRows + 3;
 
-  // ny rows of n_cells / ny cells each, the first half of the rows (rounded down) to lane 0;
-  // periodic_y: the last row meets the first.
+  // ny rows, the first half (rounded down) to lane 0; periodic_y: the last row meets the first;
+  // n_cells cells in all.
   void configure(int ny, bool periodic_y, int n_cells) {
     cell_time_.assign(static_cast<std::size_t>(n_cells), -std::numeric_limits<double>::infinity());
     violated_.store(false, std::memory_order_relaxed);
     row_class_.assign(static_cast<std::size_t>(ny), 0);
-    const int half = ny / 2, nx = ny > 0 ? n_cells / ny : 1;
-    inv_nx_ = 1.0 / nx;
+    const int half = ny / 2;
     for (int r = 0; r < ny; ++r) {
       int d = r < half ? half - 1 - r : r - half;  // rows to the middle cut
       if (periodic_y) d = std::min(d, r < half ? r : ny - 1 - r);  // or to the wrapped one
@@ -61,7 +60,7 @@ public:
       m.read = 0;  // else a restart after mail would skip the first items sent
     }
   }
-  int owner_of_cell(int c) const { return cell_class(c) & kLaneOne; }
+  int owner_of_row(int r) const { return row_class(r) & kLaneOne; }
 
   // ---- late events ----------------------------------------------------------------------
   // A lane runs its inner events without waiting, so an event the other lane mails it may
@@ -84,12 +83,11 @@ public:
   std::size_t bytes() const {
     return cell_time_.capacity() * sizeof(double) + row_class_.capacity() + sizeof(box_);
   }
-  // Cells by their row's distance to the other band: edge rows, rows that keep stamps, and
-  // rows next to those (an event there may change a cell of a stamped row: a partner, a
-  // crossing).
-  bool edge_cell(int c) const { return (cell_class(c) & kEdge) != 0; }
-  bool stamp_cell(int c) const { return (cell_class(c) & kStamped) != 0; }
-  bool near_stamp_cell(int c) const { return (cell_class(c) & kNearStamped) != 0; }
+  // Rows by their distance to the other band: edge rows, rows that keep stamps, and rows
+  // next to those (an event there may change a cell of a stamped row: a partner, a crossing).
+  bool edge_row(int r) const { return (row_class(r) & kEdge) != 0; }
+  bool stamp_row(int r) const { return (row_class(r) & kStamped) != 0; }
+  bool near_stamp_row(int r) const { return (row_class(r) & kNearStamped) != 0; }
 
   // ---- published next events ----------------------------------------------------------
   // Lane k is about to process (or is processing) o, and has processed everything before it.
@@ -193,15 +191,8 @@ private:
     alignas(kApart) EventOrder item[kMailbox];
   };
   static constexpr std::uint8_t kLaneOne = 1, kEdge = 2, kStamped = 4, kNearStamped = 8;
-  // What the lanes ask of a cell at every event, by its row: a table of a byte a row (a
-  // table by cell missed the cache), and the row c / nx by a multiplication, not an
-  // integer division: floor((c + ½)/nx) is exact in doubles, the fraction being at least
-  // ½/nx away from an integer.
-  std::uint8_t cell_class(int c) const {
-    return row_class_[static_cast<std::size_t>((c + 0.5) * inv_nx_)];
-  }
+  std::uint8_t row_class(int r) const { return row_class_[static_cast<std::size_t>(r)]; }
   std::vector<std::uint8_t> row_class_;  // owner and distance class of each row (configure)
-  double inv_nx_ = 1.0;
   std::vector<double> cell_time_;  // stamps
   alignas(kApart) std::atomic<bool> violated_{false};
   Published pub_[kLanes];
