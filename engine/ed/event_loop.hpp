@@ -342,11 +342,17 @@ private:
   // its inner rows are never read: see far_partner.)
   // An agent's event is ordered with the other lane's the same way (it changes the agent's
   // state: its random stream, its counts, the disks it adds or takes out).
+  // Farther in than the row next to the edge rows, a partner in i's 3×3 block lies in this
+  // band's inner rows, and one beyond it is never read (far_partner): the partner's cell,
+  // a cache miss at every event at 10^6 disks, is then not looked up. (Such a partner is
+  // this lane's: a disk reaches these rows from the other band only by crossings of its
+  // own, which are this lane's events once the mail bringing it is taken in.)
   bool edge_event(int i) const {
-    if (edge_row_of(i)) return true;
+    const int r = s_.grid.iy(s_.grid.cell(i));
+    if (link_->edge_row(r)) return true;
     const NextEvent& ev = s_.event[i];
     if (ev.kind == EventKind::Agent) return !ev.crossing;
-    return ev.kind == EventKind::Pair && (!owns(ev.partner) || edge_row_of(ev.partner));
+    return ev.kind == EventKind::Pair && link_->partner_row(r) && (!owns(ev.partner) || edge_row_of(ev.partner));
   }
   // A lane does not read a partner outside the 3×3 cells around disk i: such a pair cannot
   // touch before one of them crosses a cell wall (cells are at least a diameter), so its

@@ -49,6 +49,7 @@ public:
       int d = r < half ? half - 1 - r : r - half;  // rows to the middle cut
       if (periodic_y) d = std::min(d, r < half ? r : ny - 1 - r);  // or to the wrapped one
       const std::uint8_t k = static_cast<std::uint8_t>((r < half ? 0 : kLaneOne) | (d < kEdgeRows ? kEdge : 0) |
+                                                       (d <= kEdgeRows ? kPartnerMatters : 0) |
                                                        (d < kStampRows ? kStamped : 0) |
                                                        (d <= kStampRows ? kNearStamped : 0));
       row_class_[static_cast<std::size_t>(r)] = k;
@@ -86,6 +87,10 @@ public:
   // Rows by their distance to the other band: edge rows, rows that keep stamps, and rows
   // next to those (an event there may change a cell of a stamped row: a partner, a crossing).
   bool edge_row(int r) const { return (row_class(r) & kEdge) != 0; }
+  // The row next to the edge rows, and those: a pair event of a disk here may have its
+  // partner in an edge row or in the other band (farther in, a partner in the 3×3 block
+  // lies in this band's inner rows).
+  bool partner_row(int r) const { return (row_class(r) & kPartnerMatters) != 0; }
   bool stamp_row(int r) const { return (row_class(r) & kStamped) != 0; }
   bool near_stamp_row(int r) const { return (row_class(r) & kNearStamped) != 0; }
 
@@ -190,7 +195,7 @@ private:
     std::uint64_t read = 0;                              // the receiver's own: read up to here
     alignas(kApart) EventOrder item[kMailbox];
   };
-  static constexpr std::uint8_t kLaneOne = 1, kEdge = 2, kStamped = 4, kNearStamped = 8;
+  static constexpr std::uint8_t kLaneOne = 1, kEdge = 2, kStamped = 4, kNearStamped = 8, kPartnerMatters = 16;
   std::uint8_t row_class(int r) const { return row_class_[static_cast<std::size_t>(r)]; }
   std::vector<std::uint8_t> row_class_;  // owner and distance class of each row (configure)
   std::vector<double> cell_time_;  // stamps
