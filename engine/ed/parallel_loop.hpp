@@ -49,7 +49,7 @@ public:
   ParallelLoop(SystemState& s, int threads) : s_(s), threads_(threads) {
     if (threads != 1 && threads != 2) throw Error("ed: the parallel loop runs on 1 or 2 threads, not " + std::to_string(threads));
     for (int k = 0; k < LaneLink::kLanes; ++k) {
-      lane_[k] = std::make_unique<Lane>(s_);
+      lane_[k] = std::make_unique<Lane>(s_, BucketCalendar::spreading_ahead());
       lane_[k]->lane_attach(&link_, k);
     }
   }

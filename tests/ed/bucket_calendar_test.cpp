@@ -34,13 +34,14 @@ struct Tuning {
 // Runs `pops` events on n entries: each pop re-schedules the popped entry and a few
 // others (as a collision re-predicts its parties and an agent touches disks), now and
 // then to never, to a tie, to "now", or far beyond the window.
-void check(const Tuning& tn, int n, int pops, std::uint64_t seed) {
+void check(const Tuning& tn, int n, int pops, std::uint64_t seed, bool spreading_ahead = false) {
   std::mt19937_64 rng(seed);
   std::exponential_distribution<double> wait(1.0);
   std::uniform_real_distribution<double> u(0.0, 1.0);
   std::vector<double> key(n);
   for (double& k : key) k = u(rng) < 0.05 ? ed::kNever : wait(rng);
   ed::BucketCalendar cal(tn.per_bucket, tn.span, tn.fine_per_coarse);
+  if (spreading_ahead) cal = ed::BucketCalendar::spreading_ahead(tn.per_bucket, tn.span, tn.fine_per_coarse);
   cal.reset(ed::CalendarKeys{key.data(), 1}, nullptr, n - 2, 2);
   double now = 0.0;
   auto reschedule = [&](int e) {
@@ -90,6 +91,15 @@ TEST(BucketCalendar, PopsTheLeastKeyWithTheDefaultTuning) { check({2.0, 8.0, 512
 
 TEST(BucketCalendar, PopsTheLeastKeyThroughSmallCoarseBuckets) {
   for (int f : {1, 2, 4, 16}) check({2.0, 8.0, f}, 2000, 40000, 10 + f);
+}
+
+TEST(BucketCalendar, PopsTheLeastKeySpreadingAhead) {
+  // A lane's calendar: the next coarse bucket spread a chunk at a time, the rest when it
+  // comes up (crowded buckets hold more chunks than there are fine buckets).
+  check({2.0, 8.0, 512}, 3000, 60000, 21, true);
+  for (int f : {1, 2, 4, 16}) check({2.0, 8.0, f}, 2000, 40000, 30 + f, true);
+  check({0.5, 1.0, 4}, 1500, 30000, 23, true);
+  check({40.0, 2.0, 8}, 1500, 30000, 24, true);
 }
 
 TEST(BucketCalendar, RefusesCoarseBucketsOfOtherThanPowersOfTwo) {
