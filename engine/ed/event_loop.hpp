@@ -193,6 +193,8 @@ public:
       if (++waits % 64 == 0) std::this_thread::yield();
       else LaneLink::spin();
     };
+    books_.log = &book_log_;  // in the order of one loop (LaneBookLog)
+    book_log_.settle(books_);
     for (;;) {
       if (l.violated()) break;  // the other lane found one: the run is done again anyway
       const EventOrder o = lane_next();
@@ -212,19 +214,25 @@ public:
         // Mail the other lane sent before it moved on may hold an earlier event.
         if (l.mail_waiting(me_)) continue;
       }
-      if (o < horizon_ && late_conflict(o)) {
+      const bool late = o < horizon_;
+      if (late && late_conflict(o)) {
         l.violate();
         break;
       }
       const Stamped cells = before_stamp(o.e);
+      book_log_.begin_event(o.key, o.e);
       if (process(o.e)) {
         deferred_ = -1;
-        if (horizon_ < o) horizon_ = o;
+        if (late) book_log_.reorder_last(books_);
+        else horizon_ = o;
+        // Nothing can come before an edge event the other lane has passed: its sums are final.
+        if (serial_ && !late) book_log_.settle(books_);
         after_stamp(o.e, cells, o.key);
       } else {
         deferred_ = o.e;  // found to need the other lane's order: done once it may
       }
     }
+    books_.log = nullptr;
   }
 
 private:
@@ -309,7 +317,10 @@ private:
     if constexpr (kLane) books_.add_kinetic_tensor(m, vx0, vy0, vx1, vy1);
     else s_.add_kinetic_tensor(m, vx0, vy0, vx1, vy1);
   }
-  void add_virial(double rx, double ry, double jx, double jy) { ed::add_virial(stats(), rx, ry, jx, jy); }
+  void add_virial(double rx, double ry, double jx, double jy) {
+    if constexpr (kLane) books_.add_virial(rx, ry, jx, jy);
+    else ed::add_virial(s_.stats, rx, ry, jx, jy);
+  }
   // Entry e's event changed: into this loop's calendar, or (a lane, e in the other band)
   // into the other lane's mail.
   void reschedule(int e) {
@@ -1092,6 +1103,7 @@ private:
   CollisionParams tc_rule_;      // scratch of tc_elastic_rule
   // A lane's own (kLane): its clock and books, the link to the other lane, its number.
   LaneBooks books_;
+  LaneBookLog book_log_;  // lane_run's
   LaneLink* link_ = nullptr;
   int me_ = 0;
   // owns(): a bit a disk, so that the check at every event stays in cache (a byte a disk

@@ -10,10 +10,10 @@
 // event records give), never at an event count: so its bits differ from the one-lane
 // loop's, which rebases at counts, but not with the number of threads, nor with a
 // checkpoint taken between runs (the records are in it). The books (kinetic energy,
-// virial sums, kT integral) are summed per lane and added in lane order at each stop;
-// a lane may take an event the other lane sent it after later ones of its own that it
-// does not touch, so their sums may differ in the last bits between one and two threads
-// (the disks do not).
+// virial sums, kT integral) are summed per lane in the order of one loop and added in
+// lane order at each stop: the same bits on one thread and two, though a lane may take an
+// event the other lane sent it after later ones of its own that it does not touch (the
+// sums are then done again in order: LaneBookLog).
 //
 // Everything the one loop runs runs here: particle agents (walls, obstacles, the stream's
 // piston, filter, inlet and outlet planes) act in the order of one loop between the lanes

@@ -45,6 +45,41 @@ void SystemState::rebase() {
   epoch_ = now_;
 }
 
+void LaneBookLog::settle(const LaneBooks& b) {
+  settled_ = Sums{b.kin, b.rot, b.px, b.py, b.kxx, b.kxy, b.kyy, b.kin_t, b.kxx_t, b.kxy_t, b.kyy_t,
+                  b.stats.virial, b.stats.virial_xx, b.stats.virial_xy, b.stats.virial_yy};
+  events_.clear();
+  adds_.clear();
+}
+
+void LaneBookLog::reorder_last(LaneBooks& b) {
+  // Only the last event is out of place (each earlier one was put in its place in turn).
+  const Event last = events_.back();
+  std::size_t q = events_.size() - 1;
+  while (q > 0 && last.before(events_[q - 1])) --q;
+  events_.pop_back();
+  events_.insert(events_.begin() + static_cast<std::ptrdiff_t>(q), last);
+  const Sums& f = settled_;
+  b.kin = f.kin, b.rot = f.rot, b.px = f.px, b.py = f.py, b.kxx = f.kxx, b.kxy = f.kxy, b.kyy = f.kyy;
+  b.kin_t = f.kin_t, b.kxx_t = f.kxx_t, b.kxy_t = f.kxy_t, b.kyy_t = f.kyy_t;
+  b.stats.virial = f.virial, b.stats.virial_xx = f.virial_xx, b.stats.virial_xy = f.virial_xy,
+  b.stats.virial_yy = f.virial_yy;
+  // The same calls, with the clock each addition saw, as the lane made them (not logged again).
+  const double now = b.now;
+  LaneBookLog* const log = b.log;
+  b.log = nullptr;
+  for (const Event& ev : events_)
+    for (std::size_t k = ev.first; k < ev.first + ev.count; ++k) {
+      const Add& x = adds_[k];
+      b.now = x.now;
+      if (x.kind == Add::kKinetic) b.add_kinetic(x.a, x.b, x.c, x.d);
+      else if (x.kind == Add::kTensor) b.add_tensor(TensorStep{x.a, x.b, x.c});
+      else b.add_virial(x.a, x.b, x.c, x.d);
+    }
+  b.now = now;
+  b.log = log;
+}
+
 void SystemState::absorb_lanes(double t, const LaneBooks* lanes, int n_lanes) {
   advance_clock(t);
   const int n = mobile_count();

@@ -80,10 +80,61 @@ inline TensorStep kinetic_tensor_step(double m, double vx0, double vy0, double v
   return {m * (vx1 * vx1 - vx0 * vx0), m * (vx1 * vy1 - vx0 * vy0), m * (vy1 * vy1 - vy0 * vy0)};
 }
 
+struct LaneBooks;
+
+// The order of one loop for a lane's sums on two threads. A lane sums its books event by
+// event; on two threads it may take an event the other lane mailed it after later ones of
+// its own (a late event, ParallelLoop), and floating-point sums taken in another order
+// differ in their last bits. So, on two threads, a lane also logs each addition (with
+// its event's place in the order of one loop, (key, entry)) since the last point where its
+// sums were final; a late event has the sums done again from that point, each event's
+// additions in the order of one loop: the same operations in the same order as on one
+// thread, so the same bits. A point is final after an edge event that was not late (the
+// other lane had passed it and its mail was in: nothing can come before it any more).
+// Late events are rare (one in about 5 × 10^6 events of the elastic box), so the redoing
+// costs nothing; the log is a few dozen events long.
+class LaneBookLog {
+public:
+  void settle(const LaneBooks& b);  // b's sums are final: the log starts afresh
+  void begin_event(double key, int e) { events_.push_back(Event{key, e, adds_.size(), 0}); }
+  void kinetic(double now, double dk, double drot, double dpx, double dpy) { note(Add::kKinetic, now, dk, drot, dpx, dpy); }
+  void tensor(double now, double xx, double xy, double yy) { note(Add::kTensor, now, xx, xy, yy, 0.0); }
+  void virial(double rx, double ry, double jx, double jy) { note(Add::kVirial, 0.0, rx, ry, jx, jy); }
+  // The last event began out of its order: b's sums are done again from the final ones,
+  // event by event in the order (key, entry).
+  void reorder_last(LaneBooks& b);
+
+private:
+  struct Add {
+    enum Kind : std::uint8_t { kKinetic, kTensor, kVirial } kind;
+    double now, a, b, c, d;
+  };
+  struct Event {
+    double key;
+    int e;
+    std::size_t first, count;  // its additions: adds_[first, first + count)
+    bool before(const Event& o) const { return key < o.key || (key == o.key && e < o.e); }
+  };
+  void note(Add::Kind k, double now, double a, double b, double c, double d) {
+    adds_.push_back(Add{k, now, a, b, c, d});
+    ++events_.back().count;
+  }
+  // The sums of LaneBooks, as at the last final point.
+  struct Sums {
+    double kin = 0.0, rot = 0.0, px = 0.0, py = 0.0, kxx = 0.0, kxy = 0.0, kyy = 0.0;
+    double kin_t = 0.0, kxx_t = 0.0, kxy_t = 0.0, kyy_t = 0.0;
+    double virial = 0.0, virial_xx = 0.0, virial_xy = 0.0, virial_yy = 0.0;
+  };
+  Sums settled_;
+  std::vector<Event> events_;
+  std::vector<Add> adds_;
+};
+
 // What one lane of the parallel loop (ParallelLoop) keeps while it runs on its own: its
 // clock, its counts and sums (as Stats, from zero), and the changes it made to the energy,
 // momentum and kinetic-tensor books, with their integrals over its time since it left
-// the state's clock (SystemState::absorb_lanes adds them up).
+// the state's clock (SystemState::absorb_lanes adds them up). log: on two threads, where
+// each addition is noted too (LaneBookLog).
 struct LaneBooks {
   double now = 0.0;
   Stats stats;
@@ -92,6 +143,7 @@ struct LaneBooks {
   // the lane took its events in (it may take an event the other lane sent it after later
   // ones of its own that the event does not touch).
   double kin_t = 0.0, kxx_t = 0.0, kxy_t = 0.0, kyy_t = 0.0;
+  LaneBookLog* log = nullptr;
   void start(double t) {
     *this = LaneBooks{};
     now = t;
@@ -99,6 +151,7 @@ struct LaneBooks {
   // The clock is the event's time, not the latest time seen (see kin_t).
   void advance_clock(double t) { now = t; }
   void add_kinetic(double dk, double drot, double dpx, double dpy) {
+    if (log) log->kinetic(now, dk, drot, dpx, dpy);
     kin += dk;
     kin_t += dk * now;
     rot += drot;
@@ -109,12 +162,17 @@ struct LaneBooks {
     add_tensor(kinetic_tensor_step(m, vx0, vy0, vx1, vy1));
   }
   void add_tensor(const TensorStep& d) {
+    if (log) log->tensor(now, d.xx, d.xy, d.yy);
     kxx += d.xx;
     kxy += d.xy;
     kyy += d.yy;
     kxx_t += d.xx * now;
     kxy_t += d.xy * now;
     kyy_t += d.yy * now;
+  }
+  void add_virial(double rx, double ry, double jx, double jy) {
+    if (log) log->virial(rx, ry, jx, jy);
+    ed::add_virial(stats, rx, ry, jx, jy);
   }
 };
 
