@@ -184,6 +184,7 @@ public:
   }
   // Processes this lane's events up to time t (key ≤ t) while the other lane does its own
   // in another thread, and returns when both are done.
+  static constexpr std::size_t kLogCut = 1024;  // events in the book log (lane_run)
   void lane_run(double t) {
     LaneLink& l = *link_;
     // Waits spin, yielding the core now and then: with more threads than free cores the
@@ -200,6 +201,11 @@ public:
       const EventOrder o = lane_next();
       l.publish(me_, o);
       l.taken(me_);
+      // A long log (no edge event for a while: an empty edge zone) is cut where the other
+      // lane is past all this lane did: no mail can then bring an event before it.
+      if (book_log_.events() >= kLogCut && book_log_.events() % 64 == 0 && !(o < horizon_) &&
+          !l.mail_waiting(me_) && l.other_is_past(me_, EventOrder{horizon_.key, std::numeric_limits<int>::max()}))
+        book_log_.settle(books_);
       if (!(o.key <= t)) {
         if (l.other_done(me_, t) && !l.mail_waiting(me_)) break;
         wait();

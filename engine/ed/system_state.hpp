@@ -90,13 +90,16 @@ struct LaneBooks;
 // sums were final; a late event has the sums done again from that point, each event's
 // additions in the order of one loop: the same operations in the same order as on one
 // thread, so the same bits. A point is final after an edge event that was not late (the
-// other lane had passed it and its mail was in: nothing can come before it any more).
+// other lane had passed it and its mail was in: nothing can come before it any more), or
+// when the other lane is past everything this lane did (a long stretch without edge
+// events: EventLoop::lane_run).
 // Late events are rare (one in about 5 × 10^6 events of the elastic box), so the redoing
 // costs nothing; the log is a few dozen events long.
 class LaneBookLog {
 public:
   void settle(const LaneBooks& b);  // b's sums are final: the log starts afresh
   void begin_event(double key, int e) { events_.push_back(Event{key, e, adds_.size(), 0}); }
+  std::size_t events() const { return events_.size(); }
   void kinetic(double now, double dk, double drot, double dpx, double dpy) { note(Add::kKinetic, now, dk, drot, dpx, dpy); }
   void tensor(double now, double xx, double xy, double yy) { note(Add::kTensor, now, xx, xy, yy, 0.0); }
   void virial(double rx, double ry, double jx, double jy) { note(Add::kVirial, 0.0, rx, ry, jx, jy); }
