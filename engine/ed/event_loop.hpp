@@ -184,7 +184,7 @@ public:
   }
   // Processes this lane's events up to time t (key ≤ t) while the other lane does its own
   // in another thread, and returns when both are done.
-  static constexpr std::size_t kLogCut = 1024;  // events in the book log (lane_run)
+  static constexpr std::size_t kLogCut = 1024, kLogMax = 1 << 16;  // events in the book log (lane_run)
   void lane_run(double t) {
     LaneLink& l = *link_;
     // Waits spin, yielding the core now and then: with more threads than free cores the
@@ -202,10 +202,19 @@ public:
       l.publish(me_, o);
       l.taken(me_);
       // A long log (no edge event for a while: an empty edge zone) is cut where the other
-      // lane is past all this lane did: no mail can then bring an event before it.
-      if (book_log_.events() >= kLogCut && book_log_.events() % 64 == 0 && !(o < horizon_) &&
-          !l.mail_waiting(me_) && l.other_is_past(me_, EventOrder{horizon_.key, std::numeric_limits<int>::max()}))
-        book_log_.settle(books_);
+      // lane is past all this lane did: no mail can then bring an event before it. One that
+      // reaches kLogMax all the same has the run done again in the merged order (a lane
+      // far ahead of the other: waiting here could wait on the other lane's edge event).
+      if (book_log_.events() >= kLogCut && !(o < horizon_) &&
+          (book_log_.events() % 64 == 0 || book_log_.events() >= kLogMax)) {
+        if (!l.mail_waiting(me_) &&
+            l.other_is_past(me_, EventOrder{horizon_.key, std::numeric_limits<int>::max()})) {
+          book_log_.settle(books_);
+        } else if (book_log_.events() >= kLogMax) {
+          l.violate();
+          break;
+        }
+      }
       if (!(o.key <= t)) {
         if (l.other_done(me_, t) && !l.mail_waiting(me_)) break;
         wait();
