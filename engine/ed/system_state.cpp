@@ -49,7 +49,8 @@ void LaneBookLog::settle(const LaneBooks& b) {
   settled_ = Sums{b.kin, b.rot, b.px, b.py, b.kxx, b.kxy, b.kyy, b.kin_t, b.kxx_t, b.kxy_t, b.kyy_t,
                   b.stats.virial, b.stats.virial_xx, b.stats.virial_xy, b.stats.virial_yy};
   events_.clear();
-  adds_.clear();
+  values_.clear();
+  kinds_.clear();
 }
 
 void LaneBookLog::reorder_last(LaneBooks& b) {
@@ -68,14 +69,22 @@ void LaneBookLog::reorder_last(LaneBooks& b) {
   const double now = b.now;
   LaneBookLog* const log = b.log;
   b.log = nullptr;
-  for (const Event& ev : events_)
-    for (std::size_t k = ev.first; k < ev.first + ev.count; ++k) {
-      const Add& x = adds_[k];
-      b.now = x.now;
-      if (x.kind == Add::kKinetic) b.add_kinetic(x.a, x.b, x.c, x.d);
-      else if (x.kind == Add::kTensor) b.add_tensor(TensorStep{x.a, x.b, x.c});
-      else b.add_virial(x.a, x.b, x.c, x.d);
+  for (const Event& ev : events_) {
+    b.now = ev.now;
+    const double* v = values_.data() + ev.values;
+    for (std::size_t k = ev.kinds; k < ev.kinds + ev.n_kinds; ++k) {
+      if (kinds_[k] == kKinetic) {
+        b.add_kinetic(v[0], v[1], v[2], v[3]);
+        v += 4;
+      } else if (kinds_[k] == kTensor) {
+        b.add_tensor(TensorStep{v[0], v[1], v[2]});
+        v += 3;
+      } else {
+        b.add_virial(v[0], v[1], v[2], v[3]);
+        v += 4;
+      }
     }
+  }
   b.now = now;
   b.log = log;
 }

@@ -98,29 +98,41 @@ struct LaneBooks;
 class LaneBookLog {
 public:
   void settle(const LaneBooks& b);  // b's sums are final: the log starts afresh
-  void begin_event(double key, int e) { events_.push_back(Event{key, e, adds_.size(), 0}); }
+  void begin_event(double key, int e) { events_.push_back(Event{key, e, 0.0, values_.size(), kinds_.size()}); }
   std::size_t events() const { return events_.size(); }
-  void kinetic(double now, double dk, double drot, double dpx, double dpy) { note(Add::kKinetic, now, dk, drot, dpx, dpy); }
-  void tensor(double now, double xx, double xy, double yy) { note(Add::kTensor, now, xx, xy, yy, 0.0); }
-  void virial(double rx, double ry, double jx, double jy) { note(Add::kVirial, 0.0, rx, ry, jx, jy); }
+  void kinetic(double now, double dk, double drot, double dpx, double dpy) {
+    note(kKinetic, now);
+    values_.insert(values_.end(), {dk, drot, dpx, dpy});
+  }
+  void tensor(double now, double xx, double xy, double yy) {
+    note(kTensor, now);
+    values_.insert(values_.end(), {xx, xy, yy});
+  }
+  void virial(double rx, double ry, double jx, double jy) {
+    note(kVirial, events_.back().now);
+    values_.insert(values_.end(), {rx, ry, jx, jy});
+  }
   // The last event began out of its order: b's sums are done again from the final ones,
   // event by event in the order (key, entry).
   void reorder_last(LaneBooks& b);
 
 private:
-  struct Add {
-    enum Kind : std::uint8_t { kKinetic, kTensor, kVirial } kind;
-    double now, a, b, c, d;
-  };
+  // Each addition: its kind, then its values (4, 3, 4) in one stream; the clock it saw is
+  // its event's.
+  enum Kind : std::uint8_t { kKinetic, kTensor, kVirial };
   struct Event {
     double key;
     int e;
-    std::size_t first, count;  // its additions: adds_[first, first + count)
+    double now;                    // the clock its additions saw
+    std::size_t values, kinds;     // where its values and kinds begin
+    std::size_t n_kinds = 0;       // its additions
     bool before(const Event& o) const { return key < o.key || (key == o.key && e < o.e); }
   };
-  void note(Add::Kind k, double now, double a, double b, double c, double d) {
-    adds_.push_back(Add{k, now, a, b, c, d});
-    ++events_.back().count;
+  void note(Kind k, double now) {
+    kinds_.push_back(k);
+    Event& ev = events_.back();
+    ev.now = now;
+    ++ev.n_kinds;
   }
   // The sums of LaneBooks, as at the last final point.
   struct Sums {
@@ -130,7 +142,8 @@ private:
   };
   Sums settled_;
   std::vector<Event> events_;
-  std::vector<Add> adds_;
+  std::vector<double> values_;
+  std::vector<std::uint8_t> kinds_;
 };
 
 // What one lane of the parallel loop (ParallelLoop) keeps while it runs on its own: its
