@@ -182,9 +182,9 @@ public:
     settle_changes();
     resting_ = false;
   }
+  static constexpr std::size_t kLogCut = 1024, kLogMax = 1 << 16;  // events in the book log (lane_run)
   // Processes this lane's events up to time t (key ≤ t) while the other lane does its own
   // in another thread, and returns when both are done.
-  static constexpr std::size_t kLogCut = 1024, kLogMax = 1 << 16;  // events in the book log (lane_run)
   void lane_run(double t) {
     LaneLink& l = *link_;
     // Waits spin, yielding the core now and then: with more threads than free cores the
