@@ -284,16 +284,9 @@ TEST(EdParallelLoop, AnOverlapFoundInAnInnerEventIsRemovedInTheOrderOfOneThread)
     c.tau_tc_step = 0.005;
     c.lanes = 2;
     c.threads = threads;
-    std::vector<ed::DiskInit> d;
-    auto at = [&d](double x, double y, double vx, double vy) {
-      ed::DiskInit k;
-      k.r = {x, y};
-      k.v = {vx, vy};
-      d.push_back(k);
-    };
-    at(4.3, 10.0, 0.1, 0.0);
-    at(5.5, 10.0, -0.1, 0.0);
-    for (int i = 0; i < 30; ++i) at(2.0 + 1.2 * i, 30.0, i % 2 ? 0.3 : -0.3, i % 3 ? 0.2 : -0.2);
+    std::vector<ed::DiskInit> d{ed::test::disk_at(4.3, 10.0, 0.1, 0.0), ed::test::disk_at(5.5, 10.0, -0.1, 0.0)};
+    for (int i = 0; i < 30; ++i)
+      d.push_back(ed::test::disk_at(2.0 + 1.2 * i, 30.0, i % 2 ? 0.3 : -0.3, i % 3 ? 0.2 : -0.2));
     auto sim = std::make_unique<ed::Simulation>(c, d);
     sim->state().disk[0].x = 4.6;  // same cell: centres 0.9 apart
     sim->state().repredict(0);

@@ -1,6 +1,6 @@
 // The ED tests' and benchmark's reference states: a periodic square box of n disks at area
 // fraction eta and kT = 0.02 (seed 003's equilibrium runs), from a melting lattice; and the
-// collapsing inelastic box of the TC model's tests.
+// collapsing inelastic box of the TC model's tests; a disk placed by hand.
 #pragma once
 #include <cmath>
 #include <cstdint>
@@ -32,6 +32,14 @@ inline Config collapsing_box() {
   c.tau_tc = 0.0;
   c.tau_tc_step = 1e-4;
   return c;
+}
+
+// A disk at (x, y) with velocity (vx, vy), the default radius and mass.
+inline DiskInit disk_at(double x, double y, double vx, double vy) {
+  DiskInit d;
+  d.r = {x, y};
+  d.v = {vx, vy};
+  return d;
 }
 
 }  // namespace grainflow::ed::test

@@ -23,13 +23,7 @@ namespace ed = grainflow::ed;
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
-
-ed::DiskInit disk_at(double x, double y, double vx, double vy) {
-  ed::DiskInit d;
-  d.r = {x, y};
-  d.v = {vx, vy};
-  return d;
-}
+using ed::test::disk_at;
 
 // One collision as the observer saw it: its energy change and the normal relative speed
 // before it.

@@ -35,6 +35,24 @@ namespace {
 const std::string data = GRAINFLOW_TEST_DATA;
 const std::string scenes = GRAINFLOW_SCENES_DIR;
 
+void write_file(const fs::path& p, const std::string& text) {
+  fs::create_directories(p.parent_path());
+  std::ofstream(p) << text;
+}
+
+std::string read_file(const fs::path& p) {
+  std::ifstream in(p);
+  return {std::istreambuf_iterator<char>(in), {}};
+}
+
+// The "state_digest" of run.json: hex fingerprint of the final state.
+std::string state_digest(const fs::path& run_dir) {
+  const std::string text = read_file(run_dir / "run.json");
+  const auto k = text.find("\"state_digest\": \"");
+  if (k == std::string::npos) return {};
+  return text.substr(k + 17, 16);
+}
+
 TEST(CliRender, LammpsDumpToPngAndMp4) {
   const fs::path out = fresh_dir("render_lammps");
   const Result r = run("render " + data + "/particles/lammps_two_frames.lammpstrj -o " + out.string() +
@@ -171,12 +189,10 @@ std::string expect_lanes_same_on_one_thread_and_two(const std::string& scene, co
                          " --set system.lanes=2 --set output.png=false --set output.mp4=false --threads " +
                          std::to_string(k + 1));
     EXPECT_EQ(r.status, 0) << r.output;
-    std::ifstream csv(out / "stats.csv"), json(out / "run.json");
-    stats[k].assign((std::istreambuf_iterator<char>(csv)), std::istreambuf_iterator<char>());
-    text.assign((std::istreambuf_iterator<char>(json)), std::istreambuf_iterator<char>());
-    const auto at = text.find("\"state_digest\"");
-    EXPECT_NE(at, std::string::npos) << text;
-    if (at != std::string::npos) digest[k] = text.substr(at, 40);
+    stats[k] = read_file(out / "stats.csv");
+    text = read_file(out / "run.json");
+    digest[k] = state_digest(out);
+    EXPECT_FALSE(digest[k].empty()) << text;
   }
   EXPECT_GT(stats[0].size(), 100u);
   EXPECT_EQ(stats[0], stats[1]);
@@ -221,8 +237,7 @@ TEST(CliRun, EdLanesSayWhenTheyRedidManyRuns) {
                        " --set 'sample.bins=[45,24]' --set system.lanes=2 --set output.png=false"
                        " --set output.mp4=false --threads 2");
   ASSERT_EQ(r.status, 0) << r.output;
-  std::ifstream json(out / "run.json");
-  const std::string text((std::istreambuf_iterator<char>(json)), std::istreambuf_iterator<char>());
+  const std::string text = read_file(out / "run.json");
   auto figure = [&text](const std::string& name) {
     const auto at = text.find("\"" + name + "\": ");
     return at == std::string::npos ? -1.0 : std::stod(text.substr(at + name.size() + 4));
@@ -264,16 +279,6 @@ TEST(CliRun, RefusesToOverwriteAPreviousRun) {
   EXPECT_EQ(r.status, 2);
   EXPECT_TRUE(contains(r.output, "--force")) << r.output;
   EXPECT_EQ(run(args + " --force").status, 0);
-}
-
-void write_file(const fs::path& p, const std::string& text) {
-  fs::create_directories(p.parent_path());
-  std::ofstream(p) << text;
-}
-
-std::string read_file(const fs::path& p) {
-  std::ifstream in(p);
-  return {std::istreambuf_iterator<char>(in), {}};
 }
 
 // DEM fields: bins two diameters wide unless sample.bins is given; a slab or fill height
@@ -723,15 +728,6 @@ TEST(CliRun, DemWallVelocityNeedsAWallAndInPlaneComponents) {
 }
 
 }  // namespace
-
-// The "state_digest" of run.json: hex fingerprint of the final state.
-std::string state_digest(const fs::path& run_dir) {
-  std::ifstream f(run_dir / "run.json");
-  const std::string text((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
-  const auto k = text.find("\"state_digest\": \"");
-  if (k == std::string::npos) return {};
-  return text.substr(k + 17, 16);
-}
 
 TEST(CliRun, DemChainCellsAndAllPairsSearchGiveTheSameBits) {
   // Seed 000 §3: the chain-cell table and the N² reference hold the same pairs in the same
