@@ -56,7 +56,7 @@ public:
 
   void start() override {
     check_supported();
-    link_.configure(s_.grid.ny(), s_.grid.periodic_y(), s_.grid.size());
+    configure_link();
     const int n = s_.size(), nt = static_cast<int>(s_.timers.size());
     lane_[0]->lane_start(s_.now());
     lane_[0]->lane_predict_all(nt);
@@ -69,7 +69,7 @@ public:
   }
   void resume() override {
     check_supported();
-    link_.configure(s_.grid.ny(), s_.grid.periodic_y(), s_.grid.size());
+    configure_link();
     fill();
     warm_start_copy();
   }
@@ -143,6 +143,8 @@ private:
                   " rows of cells across the box; this system has " + std::to_string(s_.grid.ny()) +
                   "; run it with lanes = threads = 1");
   }
+  // The cut and the stamps for the grid as it is, the mailboxes and published events empty.
+  void configure_link() { link_.configure(s_.grid.ny(), s_.grid.periodic_y(), s_.grid.size()); }
   void fill() {
     for (auto& l : lane_) l->lane_fill();
   }
@@ -279,7 +281,7 @@ private:
     for (const auto& a : s_.agents) a->load(r);
     for (const auto& tm : s_.timers) tm->load(r);
     s_.restore(std::move(start_));
-    link_.configure(s_.grid.ny(), s_.grid.periodic_y(), s_.grid.size());
+    configure_link();
     fill();
     start_lanes();
   }
