@@ -286,17 +286,22 @@ private:
   // Called when the window is used up (so every live copy sits in the overflow): re-tune
   // dt from the current spread of event times and lay out a new window.
   void rebuild() {
-    std::vector<std::int32_t> live;
+    // Nearly every entry is live here, so the live ones are marked in a bitmap (ne bits)
+    // and read back in entry order: one id per entry, and the layout does not depend on
+    // list history. (Sorting the ids took 2 % of the one loop's time at 1.6 × 10^5.)
+    std::vector<std::uint64_t> mark(static_cast<std::size_t>(ne_ + 63) / 64, 0);
     const std::int32_t id = overflow_id();
     // cur_ has just passed the window, so place() would name the heap for keys in its
     // first bucket beyond: a copy counts when its key lies beyond the window.
     drain(id, kAllChunks, [&](std::int32_t e) {
       const double t = key_[e];
-      if (std::isfinite(t) && bucket_of(t) - w0_ >= nb_) live.push_back(e);
+      if (std::isfinite(t) && bucket_of(t) - w0_ >= nb_)
+        mark[static_cast<std::size_t>(e) / 64] |= std::uint64_t{1} << (e % 64);
     });
-    // One id per entry, in entry order: the layout does not depend on list history.
-    std::sort(live.begin(), live.end());
-    live.erase(std::unique(live.begin(), live.end()), live.end());
+    std::vector<std::int32_t> live;
+    for (std::size_t w = 0; w < mark.size(); ++w)
+      for (std::uint64_t bits = mark[w]; bits != 0; bits &= bits - 1)
+        live.push_back(static_cast<std::int32_t>(64 * w) + std::countr_zero(bits));
     lay_out(live);
   }
   // Tunes dt to the spread of the given entries' keys (all finite, sorted, distinct, and
