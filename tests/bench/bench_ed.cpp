@@ -2,14 +2,15 @@
 // core for the equilibrium periodic box at η = 0.65, kT = 0.02, for each calendar, after
 // an equilibration period; reports the median of the timed windows and memory per disk.
 // Usage: bench_ed [N ...] [--repeats R] [--per-disk C] [--calendar cell_heap|bucket] [--cell S]
-//                 [--order lattice|shuffled|cells] [--checkpoint] [--threads 1|2]
+//                 [--order lattice|shuffled|cells] [--checkpoint] [--threads 1|2] [--lanes 1|2]
 // Memory: "hot B/disk" is what the event loop touches (Simulation::memory_parts), "B/disk"
 // everything; each size's breakdown by array follows its row.
 // --order: the disks' memory order for the timed windows — as the melted lattice left
 // it (default), shuffled at random (what an open stream's refilled slots tend to), or
 // renumbered in cell order (Simulation::reorder_disks(cell_order())).
 // --threads 2: the two-lane loop (Config::lanes = threads = 2) on two threads; "coll/s cpu"
-// then counts both threads' time.
+// then counts both threads' time. --lanes 2 --threads 1: the two lanes in their merged order
+// on one thread, which is what the lanes cost without any waiting.
 // --checkpoint: instead of the throughput, the size of a checkpoint of the equilibrated box
 // (Simulation::save_state, default N = 160000) and the median wall time of save_state and
 // of load_state (into a second simulation built the same way, construction not timed) over
@@ -34,10 +35,13 @@ namespace ed = grainflow::ed;
 namespace {
 
 int g_threads = 1;  // --threads
+int g_lanes = 0;    // --lanes (0: as many as threads)
+int lanes() { return g_lanes > 0 ? g_lanes : g_threads; }
 
 ed::Config box(int n, ed::CalendarKind cal, double cell) {
   ed::Config c = ed::test::periodic_box(n, 0.65, 1);
-  if (g_threads == 2) c.lanes = c.threads = 2;
+  c.lanes = lanes();
+  c.threads = g_threads;
   c.calendar = cal;
   c.min_cell_size = cell;
   return c;
@@ -104,6 +108,7 @@ int main(int argc, char** argv) try {
     else if (s == "--cell" && a + 1 < argc) cell = std::atof(argv[++a]);
     else if (s == "--checkpoint") checkpoint = true;
     else if (s == "--threads" && a + 1 < argc) g_threads = std::atoi(argv[++a]);
+    else if (s == "--lanes" && a + 1 < argc) g_lanes = std::atoi(argv[++a]);
     else if (s == "--order" && a + 1 < argc) {
       order = argv[++a];
       if (order != "lattice" && order != "shuffled" && order != "cells") {
@@ -144,7 +149,7 @@ int main(int argc, char** argv) try {
         const auto target = c0 + static_cast<std::uint64_t>(per_disk * n);
         const auto w0 = std::chrono::steady_clock::now();
         const std::clock_t k0 = std::clock();
-        if (g_threads == 2) {
+        if (lanes() == 2) {
           // The two lanes run between stops in time: windows of the mean time that many
           // collisions took so far.
           const double per_time = double(sim.stats().collisions) / sim.time();
@@ -172,7 +177,7 @@ int main(int argc, char** argv) try {
       std::printf("%-9d %-10s %14.4g %14.4g %14.4g %11.3f %10.1f %9.1f %9.1f\n", n, sim.calendar(), median(rates),
                   median(crates), median(erates), median(stale), hot / n, double(sim.memory_bytes()) / n, setup);
       std::printf("#   B/disk: %s\n", parts.c_str());
-      if (g_threads == 2)
+      if (lanes() == 2)
         std::printf("#   runs between stops on two threads: %llu, done again in the merged order: %llu\n",
                     static_cast<unsigned long long>(sim.lane_runs().runs),
                     static_cast<unsigned long long>(sim.lane_runs().redone));
