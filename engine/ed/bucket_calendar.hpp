@@ -3,8 +3,8 @@
 // J. Comput. Phys. 221, 615) laid out in two tiers, as in a ladder queue (Tang, Goh &
 // Thng 2005, ACM TOMACS 15, 175): a window of fine time buckets of width dt, grouped F at a
 // time into coarse buckets; only the coarse bucket being processed is spread over its fine
-// buckets (in a lane of the parallel loop, the next one too, a chunk at a time: see
-// spread_chunk), later events are appended unsorted to their coarse bucket, and events
+// buckets (in a lane of the parallel loop, the next one too, a chunk at a time while the
+// lane waits: see spread_ahead), later events are appended unsorted to their coarse bucket, and events
 // beyond the window to an overflow. A small binary heap orders the fine bucket being processed.
 // Buckets are chains of arrays of entry ids (chunks from one pool), not linked lists of
 // entries: at N ≳ 10^5 every list link an update touches is a cache miss (the old
@@ -56,9 +56,8 @@ public:
       throw Error("ed: bucket calendar: fine buckets per coarse bucket must be a power of two, not " +
                   std::to_string(fine_per_coarse));
   }
-  // The calendar of a lane of the parallel loop: the next coarse bucket is spread ahead, a
-  // chunk at each fine bucket (spread_chunk). One loop spreads it all at once when it comes
-  // up, 1–2 % faster there.
+  // The calendar of a lane of the parallel loop: the next coarse bucket may be spread ahead,
+  // a chunk at a time (spread_ahead), and what is left of it is spread when it comes up.
   static BucketCalendar spreading_ahead(double events_per_bucket = kPerBucket, double span = kSpan,
                                         int fine_per_coarse = kFinePerCoarse) {
     BucketCalendar c(events_per_bucket, span, fine_per_coarse);
@@ -119,14 +118,24 @@ public:
       }
       if (fine_of(rel) == 0) {
         if (!ahead_) knext_ = coarse_of(rel);  // not spread yet at all
-        spread_rest();  // the coarse bucket coming up, spread so far a chunk at a time
+        spread_rest();  // the coarse bucket coming up, spread ahead so far in part or not at all
         kcur_ = coarse_of(rel);
         begin_spread();
-      } else {
-        spread_chunk();
       }
       dump(ring_of(rel));
     }
+  }
+
+  // Spreading ahead, spreads one more chunk of the next coarse bucket, if any is left; false
+  // when none is. A lane calls it while it waits on the other lane: spreading a whole coarse
+  // bucket at once when it comes up (about a thousand copies) takes tens of microseconds,
+  // long enough to hold up the other lane at its next edge event, and a chunk at each fine
+  // bucket instead costs more per copy (the fine buckets' tails are out of the first-level
+  // cache by then). When a copy is spread changes nothing in the order of events.
+  bool spread_ahead() {
+    if (knext_ < 0 || bucket_[static_cast<std::size_t>(coarse_id(knext_))].head < 0) return false;
+    drain(coarse_id(knext_), 1, [this](std::int32_t e) { spread_copy(e); });
+    return true;
   }
 
   // The key of the copy top() returned: what the calendar ordered it by. (A lane of the
@@ -252,18 +261,13 @@ private:
   }
 
   // Spreading ahead (a lane), the next coarse bucket is spread into the ring (2F fine
-  // buckets) over the fine buckets of the current one, a chunk at each: spreading a whole
-  // coarse bucket at once (about a thousand copies) took tens of microseconds, long enough
-  // to hold up the other lane of the parallel loop at its next edge event. Once spreading
-  // has begun (knext_), new copies of keys in that coarse bucket go straight to the ring,
-  // so its coarse bucket only shrinks. A copy counts when its key falls in the coarse
-  // bucket being spread (the window holds it). Not spreading ahead (one loop), knext_ names
-  // the coming coarse bucket only while spread_rest spreads it whole.
+  // buckets) while the current one is processed (spread_ahead). Once spreading may begin
+  // (knext_), new copies of keys in that coarse bucket go straight to the ring, so its
+  // coarse bucket only shrinks. A copy counts when its key falls in the coarse bucket being
+  // spread (the window holds it). Not spreading ahead (one loop), knext_ names the coming
+  // coarse bucket only while spread_rest spreads it whole.
   void begin_spread() {
     knext_ = ahead_ && kcur_ + 1 < nc_ ? kcur_ + 1 : -1;
-  }
-  void spread_chunk() {
-    if (knext_ >= 0) drain(coarse_id(knext_), 1, [this](std::int32_t e) { spread_copy(e); });
   }
   // The rest of the coarse bucket coming up (the one being spread), at its first fine bucket.
   void spread_rest() {

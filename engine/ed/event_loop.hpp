@@ -187,10 +187,13 @@ public:
   // in another thread, and returns when both are done.
   void lane_run(double t) {
     LaneLink& l = *link_;
-    // Waits spin, yielding the core now and then: with more threads than free cores the
+    // A lane that waits spreads its calendar ahead (BucketCalendar::spread_ahead) while
+    // there is some to spread (8 % faster at 1.6 × 10^5 than a chunk at each fine bucket),
+    // then spins, yielding the core now and then: with more threads than free cores the
     // lane being waited for must get to run.
     unsigned waits = 0;
-    auto wait = [&waits] {
+    auto wait = [this, &waits] {
+      if (cal_.spread_ahead()) return;
       if (++waits % 64 == 0) std::this_thread::yield();
       else LaneLink::spin();
     };

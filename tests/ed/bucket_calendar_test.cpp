@@ -65,7 +65,7 @@ void check(const Tuning& tn, int n, int pops, std::uint64_t seed, bool spreading
     cal.update(e);
     if (u(rng) < 0.02) cal.update(e);  // told twice of one change
   };
-  int popped = 0;
+  int popped = 0, spread = 0;
   for (int k = 0; k < pops; ++k) {
     const int e = cal.top();
     const int want = brute_force_top(key);
@@ -76,6 +76,9 @@ void check(const Tuning& tn, int n, int pops, std::uint64_t seed, bool spreading
     ++popped;
     reschedule(e);
     for (int q = static_cast<int>(rng() % 3); q > 0; --q) reschedule(static_cast<int>(rng() % n));
+    // A lane spreads the next coarse bucket ahead, a chunk at a time, while it waits.
+    if (spreading_ahead)
+      for (int q = static_cast<int>(rng() % 3); q > 0; --q) spread += cal.spread_ahead();
     if (u(rng) < 0.002) {  // a disk leaves
       const int gone = static_cast<int>(rng() % (n - 2));
       key[gone] = ed::kNever;
@@ -83,6 +86,9 @@ void check(const Tuning& tn, int n, int pops, std::uint64_t seed, bool spreading
     }
   }
   EXPECT_GT(popped, pops / 2);
+  if (spreading_ahead) {
+    EXPECT_GT(spread, 0);  // some chunks were spread ahead, not all at their turn
+  }
 }
 
 }  // namespace
@@ -94,8 +100,8 @@ TEST(BucketCalendar, PopsTheLeastKeyThroughSmallCoarseBuckets) {
 }
 
 TEST(BucketCalendar, PopsTheLeastKeySpreadingAhead) {
-  // A lane's calendar: the next coarse bucket spread a chunk at a time, the rest when it
-  // comes up (crowded buckets hold more chunks than there are fine buckets).
+  // A lane's calendar: the next coarse bucket spread ahead a chunk at a time now and then,
+  // the rest when it comes up (crowded buckets hold more chunks than there are fine buckets).
   check({2.0, 8.0, 512}, 3000, 60000, 21, true);
   for (int f : {1, 2, 4, 16}) check({2.0, 8.0, f}, 2000, 40000, 30 + f, true);
   check({0.5, 1.0, 4}, 1500, 30000, 23, true);
