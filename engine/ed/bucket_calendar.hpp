@@ -4,8 +4,9 @@
 // Thng 2005, ACM TOMACS 15, 175): a window of fine time buckets of width dt, grouped F at a
 // time into coarse buckets; only the coarse bucket being processed is spread over its fine
 // buckets (in a lane of the parallel loop, the next one too, a chunk at a time while the
-// lane waits: see spread_ahead), later events are appended unsorted to their coarse bucket, and events
-// beyond the window to an overflow. A small binary heap orders the fine bucket being processed.
+// lane waits: see spread_ahead), later events are appended unsorted to their coarse
+// bucket, and events beyond the window to an overflow. A small binary heap orders the
+// fine bucket being processed.
 // Buckets are chains of arrays of entry ids (chunks from one pool), not linked lists of
 // entries: at N ≳ 10^5 every list link an update touches is a cache miss (the old
 // neighbours and the old head), while an append writes the end of a chunk that is in
@@ -127,11 +128,11 @@ public:
   }
 
   // Spreading ahead, spreads one more chunk of the next coarse bucket, if any is left; false
-  // when none is. A lane calls it while it waits on the other lane: spreading a whole coarse
-  // bucket at once when it comes up (about a thousand copies) takes tens of microseconds,
-  // long enough to hold up the other lane at its next edge event, and a chunk at each fine
-  // bucket instead costs more per copy (the fine buckets' tails are out of the first-level
-  // cache by then). When a copy is spread changes nothing in the order of events.
+  // when none is. A lane calls it while it waits on the other lane, so the spreading costs
+  // it no time of its own. (Spreading a whole coarse bucket when it comes up, about a
+  // thousand copies, takes tens of microseconds and holds up the other lane at its next
+  // edge event; a chunk at each fine bucket avoids that but still takes the lane's time.)
+  // When a copy is spread changes nothing in the order of events.
   bool spread_ahead() {
     if (knext_ < 0 || bucket_[static_cast<std::size_t>(coarse_id(knext_))].head < 0) return false;
     drain(coarse_id(knext_), 1, [this](std::int32_t e) { spread_copy(e); });
