@@ -135,7 +135,7 @@ public:
   // When a copy is spread changes nothing in the order of events.
   bool spread_ahead() {
     if (knext_ < 0 || bucket_[static_cast<std::size_t>(coarse_id(knext_))].head < 0) return false;
-    drain(coarse_id(knext_), 1, [this](std::int32_t e) { spread_copy(e); });
+    spread_next(1);
     return true;
   }
 
@@ -272,13 +272,16 @@ private:
   }
   // The rest of the coarse bucket coming up (the one being spread), at its first fine bucket.
   void spread_rest() {
-    if (knext_ >= 0) drain(coarse_id(knext_), kAllChunks, [this](std::int32_t e) { spread_copy(e); });
+    if (knext_ >= 0) spread_next(kAllChunks);
   }
-  void spread_copy(std::int32_t e) {
-    const double t = key_[e];
-    if (!std::isfinite(t)) return;
-    const std::int64_t rel = bucket_of(t) - w0_;
-    if (rel >= 0 && rel < nb_ && coarse_of(rel) == knext_) list_push(ring_of(rel), e);
+  // The first max_chunks chunks of the coarse bucket being spread go to the ring.
+  void spread_next(int max_chunks) {
+    drain(coarse_id(knext_), max_chunks, [this](std::int32_t e) {
+      const double t = key_[e];
+      if (!std::isfinite(t)) return;
+      const std::int64_t rel = bucket_of(t) - w0_;
+      if (rel >= 0 && rel < nb_ && coarse_of(rel) == knext_) list_push(ring_of(rel), e);
+    });
   }
   // Fine bucket s of the ring (the current one) comes up: its live copies go to the heap.
   void dump(std::int32_t s) {

@@ -94,7 +94,8 @@ struct LaneBooks;
 // when the other lane is past everything this lane did (a long stretch without edge
 // events: EventLoop::lane_run).
 // Late events are rare (one in about 5 × 10^6 events of the elastic box), so the redoing
-// costs nothing; the log is a few dozen events long.
+// costs nothing; the log usually spans the few dozen events between two edge events, and
+// is cut past kLogCut events where no edge event comes (EventLoop::lane_run).
 class LaneBookLog {
 public:
   void settle(const LaneBooks& b);  // b's sums are final: the log starts afresh

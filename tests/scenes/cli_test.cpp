@@ -45,13 +45,13 @@ std::string read_file(const fs::path& p) {
   return {std::istreambuf_iterator<char>(in), {}};
 }
 
-// The "state_digest" of run.json: hex fingerprint of the final state.
-std::string state_digest(const fs::path& run_dir) {
-  const std::string text = read_file(run_dir / "run.json");
-  const auto k = text.find("\"state_digest\": \"");
+// The "state_digest" in the text of a run.json: hex fingerprint of the final state.
+std::string digest_in(const std::string& run_json) {
+  const auto k = run_json.find("\"state_digest\": \"");
   if (k == std::string::npos) return {};
-  return text.substr(k + 17, 16);
+  return run_json.substr(k + 17, 16);
 }
+std::string state_digest(const fs::path& run_dir) { return digest_in(read_file(run_dir / "run.json")); }
 
 TEST(CliRender, LammpsDumpToPngAndMp4) {
   const fs::path out = fresh_dir("render_lammps");
@@ -191,7 +191,7 @@ std::string expect_lanes_same_on_one_thread_and_two(const std::string& scene, co
     EXPECT_EQ(r.status, 0) << r.output;
     stats[k] = read_file(out / "stats.csv");
     text = read_file(out / "run.json");
-    digest[k] = state_digest(out);
+    digest[k] = digest_in(text);
     EXPECT_FALSE(digest[k].empty()) << text;
   }
   EXPECT_GT(stats[0].size(), 100u);
