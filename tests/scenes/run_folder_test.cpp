@@ -84,7 +84,9 @@ TEST(RunFolder, ForceRefusesAFolderHoldingNoGrainflowRun) {
   touch(d / "scene.toml", "mine");
   const std::string msg = error_of(d, RunFolderMode::Force);
   EXPECT_NE(msg.find("holds no grainflow run"), std::string::npos) << msg;
+  EXPECT_EQ(msg.find(".grainflow-lock"), std::string::npos) << msg;  // the user's files only
   for (const char* f : {"holiday.mp4", "frames/notes.txt", "scene.toml"}) EXPECT_EQ(slurp(d / f), "mine") << f;
+  EXPECT_FALSE(fs::exists(d / ".grainflow-lock"));
 }
 
 // --force removes exactly what the previous run claimed (with its temporaries), and

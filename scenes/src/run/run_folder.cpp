@@ -21,11 +21,14 @@ namespace fs = std::filesystem;
 
 namespace {
 
+// What DIR holds, for an error message: the first few names, leaving out the lock file
+// this run has just taken there (the user never put it there, and it goes with the error).
 std::string listing(const fs::path& dir) {
   std::string s;
   int n = 0;
   std::error_code ec;
   for (const auto& e : fs::directory_iterator(dir, ec)) {
+    if (e.path().filename() == RunFolder::kLock) continue;
     if (n == 4) {
       s += ", …";
       break;
