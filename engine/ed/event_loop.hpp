@@ -840,6 +840,7 @@ private:
       __builtin_prefetch(slot[k].address());
     }
     const Disk* __restrict disk = s_.disk.data();
+    const std::uint32_t* __restrict counter = s_.counter.data();
     Candidate* __restrict out = buf.data();
     Candidate* const first = out;
     for (int k = 0; k < nc; ++k) {
@@ -847,6 +848,7 @@ private:
       for (int q = 0, end = s.count(); q < end; ++q) {
         const int j = s.member(q);
         __builtin_prefetch(disk + j);
+        __builtin_prefetch(counter + j);  // schedule reads the winner's
         *out = Candidate{j, k};
         out += (j != i);
       }
@@ -1019,12 +1021,20 @@ private:
   }
   // The same from disk i's candidates already listed: cand[0..n) from the block b around its cell.
   void predict_listed(int i, const Block& b, const Candidate* cand, int n) {
+    const Prediction p = earliest(i, b, cand, n);
+    schedule(i, p.best, p.who, p.kind);
+  }
+  // Disk i's earliest pair or agent event (before schedule stores it).
+  struct Prediction {
     double best = kNever;
     int who = -1;
     EventKind kind = EventKind::None;
-    evaluate(now_record(i), s_.radius(i), cand, n, b.shx, b.shy, b.shifted, best, who, kind);
-    scan_agents(i, b.centre, best, who, kind);
-    schedule(i, best, who, kind);
+  };
+  Prediction earliest(int i, const Block& b, const Candidate* cand, int n) {
+    Prediction p;
+    evaluate(now_record(i), s_.radius(i), cand, n, b.shx, b.shy, b.shifted, p.best, p.who, p.kind);
+    scan_agents(i, b.centre, p.best, p.who, p.kind);
+    return p;
   }
   // predict_full(i), cal_.update(i), predict_full(j), cal_.update(j) — the two parties of a
   // collision — in two halves: list_parties lists the candidates of both neighbourhoods
@@ -1043,10 +1053,16 @@ private:
     b.n = gather(j, b.block.cells, b.block.nc, b.cand);
     __builtin_prefetch(&s_.event[j], 1);  // written by predict_parties
   }
+  // Both parties are evaluated before either is stored: schedule reads the partner's
+  // counter, a cache miss at N ≳ 10^6 (the counters outgrow the L2 cache), and the second
+  // evaluation overlaps it (with the gather's prefetch of the candidates' counters, +8 % at
+  // 1.4 × 10^6, measured in alternating windows of one run).
   void predict_parties(int i, int j) {
-    predict_listed(i, party_[0].block, party_[0].cand.data(), party_[0].n);
+    const Prediction pi = earliest(i, party_[0].block, party_[0].cand.data(), party_[0].n);
+    const Prediction pj = earliest(j, party_[1].block, party_[1].cand.data(), party_[1].n);
+    schedule(i, pi.best, pi.who, pi.kind);
     reschedule(i);
-    predict_listed(j, party_[1].block, party_[1].cand.data(), party_[1].n);
+    schedule(j, pj.best, pj.who, pj.kind);
     reschedule(j);
   }
 
