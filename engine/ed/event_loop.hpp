@@ -414,13 +414,21 @@ private:
     if (e >= n) {
       timer_event(e - n);
     } else if (s_.event[e].crossing) {
+      // What a crossing reads once the disk has moved is fetched meanwhile: the held
+      // partner's record, cell entry and counter (held_time, the staleness check), and the
+      // row of cells the move brings into the disk's block (+3 % at 1.4 × 10^6).
+      const NextEvent& ev = s_.event[e];
+      if (ev.kind == EventKind::Pair) {
+        prefetch_partner(ev.partner);
+        __builtin_prefetch(&s_.counter[ev.partner]);
+      }
+      s_.grid.prefetch_beyond(s_.grid.cell(e), ev.cross_dir);
       crossing(e);
     } else if (s_.event[e].kind == EventKind::Pair) {
       const int j = s_.event[e].partner;
       // The partner's record and cell entry, which a collision reads first, are fetched
       // while its counter is checked.
-      __builtin_prefetch(&s_.disk[j]);
-      s_.grid.prefetch_cell(j);
+      prefetch_partner(j);
       if (far_partner(e, j) || s_.counter[j] != s_.event[e].partner_count) {
         ++stats().stale;
         predict_full(e);
@@ -435,6 +443,11 @@ private:
     }
     cal_.commit();
     return true;
+  }
+  // Cache hints (no effect on results): partner j's record and cell entry.
+  void prefetch_partner(int j) const {
+    __builtin_prefetch(&s_.disk[j]);
+    s_.grid.prefetch_cell(j);
   }
   bool undo_event() {
     --stats().events;
