@@ -27,16 +27,23 @@
 
 #include "engine/core/error.hpp"
 #include "engine/ed/simulation.hpp"
+#include "tests/bench/bench_args.hpp"
 #include "tests/ed/periodic_box.hpp"
 #include "engine/io/archive.hpp"
 
 namespace ed = grainflow::ed;
+namespace bench = grainflow::bench;
 
 namespace {
 
 int g_threads = 1;  // --threads
 int g_lanes = 0;    // --lanes (0: as many as threads)
 int lanes() { return g_lanes > 0 ? g_lanes : g_threads; }
+
+constexpr const char* kUsage =
+    "bench_ed [N ...] [--repeats R] [--per-disk C] [--calendar cell_heap|bucket] [--cell S]\n"
+    "                [--order lattice|shuffled|cells] [--checkpoint] [--threads 1|2] [--lanes 1|2]\n"
+    "N: disk counts (default 10000 160000 1000000; 160000 with --checkpoint)";
 
 ed::Config box(int n, ed::CalendarKind cal, double cell) {
   ed::Config c = ed::test::periodic_box(n, 0.65, 1);
@@ -102,21 +109,31 @@ int main(int argc, char** argv) try {
   std::vector<ed::CalendarKind> cals = {ed::CalendarKind::cell_heap, ed::CalendarKind::bucket};
   for (int a = 1; a < argc; ++a) {
     const std::string s = argv[a];
-    if (s == "--repeats" && a + 1 < argc) repeats = std::atoi(argv[++a]);
-    else if (s == "--per-disk" && a + 1 < argc) per_disk = std::atof(argv[++a]);
+    // The value after option s, as a number within [lo, hi].
+    auto value = [&](double lo, double hi, bool whole = false) {
+      const char* v = a + 1 < argc ? argv[++a] : nullptr;
+      return bench::number_arg("bench_ed", kUsage, s, v, lo, hi, whole);
+    };
+    if (s == "--help" || s == "-h") {
+      std::printf("usage: %s\n", kUsage);
+      return 0;
+    } else if (s == "--repeats") repeats = static_cast<int>(value(1, 1e6, true));
+    else if (s == "--per-disk") per_disk = value(1e-3, 1e6);
     else if (s == "--calendar" && a + 1 < argc) cals = {ed::calendar_from_name(argv[++a])};
-    else if (s == "--cell" && a + 1 < argc) cell = std::atof(argv[++a]);
+    else if (s == "--cell") cell = value(1e-3, 1e3);
     else if (s == "--checkpoint") checkpoint = true;
-    else if (s == "--threads" && a + 1 < argc) g_threads = std::atoi(argv[++a]);
-    else if (s == "--lanes" && a + 1 < argc) g_lanes = std::atoi(argv[++a]);
+    else if (s == "--threads") g_threads = static_cast<int>(value(1, 2, true));
+    else if (s == "--lanes") g_lanes = static_cast<int>(value(1, 2, true));
     else if (s == "--order" && a + 1 < argc) {
       order = argv[++a];
-      if (order != "lattice" && order != "shuffled" && order != "cells") {
-        std::fprintf(stderr, "bench_ed: --order %s: allowed lattice, shuffled, cells\n", order.c_str());
-        return 2;
-      }
+      if (order != "lattice" && order != "shuffled" && order != "cells")
+        bench::usage_error("bench_ed", kUsage, "--order " + order + ": allowed lattice, shuffled, cells");
+    } else if (!s.empty() && s[0] == '-') {
+      bench::usage_error("bench_ed", kUsage, "unknown option " + s);
+    } else {
+      // Disk counts: whole numbers (1e6 and 1000000 alike), at most the cell map's 3-byte slots.
+      sizes.push_back(static_cast<int>(bench::number_arg("bench_ed", kUsage, "N", s.c_str(), 1, 1 << 24, true)));
     }
-    else sizes.push_back(static_cast<int>(std::atof(s.c_str())));
   }
   if (checkpoint) {
     if (sizes.empty()) sizes = {160000};

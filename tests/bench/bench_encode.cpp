@@ -40,12 +40,18 @@
 #include "render/output/mp4_writer.hpp"
 #include "render/output/png_io.hpp"
 #include "render/output/png_sequence_sink.hpp"
+#include "tests/bench/bench_args.hpp"
 
 namespace {
 
 using grainflow::render::Image;
 using Clock = std::chrono::steady_clock;
 namespace fs = std::filesystem;
+namespace bench = grainflow::bench;
+constexpr const char* kUsage =
+    "bench_encode [frames-per-mp4-run=60] [scratch-dir=/tmp/grainflow_bench_encode] [presets,comma-separated]\n"
+    "       bench_encode sync [frames=300] [every=30] [scratch-dir=/tmp/grainflow_bench_encode_sync]\n"
+    "(a scratch folder must be new, or one a benchmark made: it is emptied and removed)";
 
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
@@ -138,11 +144,11 @@ void busy(double seconds) {
 //    comparison.
 int sync_bench(int argc, char** argv) {
   using namespace grainflow::render;
-  const int frames = argc > 2 ? std::max(30, std::atoi(argv[2])) : 300;
-  const int every = argc > 3 ? std::max(1, std::atoi(argv[3])) : 30;
-  const fs::path dir = argc > 4 ? fs::path(argv[4]) : fs::path("/tmp/grainflow_bench_encode_sync");
-  fs::remove_all(dir);
-  fs::create_directories(dir);
+  if (argc > 5) bench::usage_error("bench_encode", kUsage, std::string("unexpected argument ") + argv[5]);
+  const int frames = argc > 2 ? static_cast<int>(bench::number_arg("bench_encode", kUsage, "frames", argv[2], 30, 1e5, true)) : 300;
+  const int every = argc > 3 ? static_cast<int>(bench::number_arg("bench_encode", kUsage, "every", argv[3], 1, 1e5, true)) : 30;
+  const bench::ScratchDir scratch("bench_encode", argc > 4 ? fs::path(argv[4]) : fs::path("/tmp/grainflow_bench_encode_sync"));
+  const fs::path& dir = scratch.path();
   std::printf("bench_encode sync: %d frames, sync every %d, default MP4 options, scratch %s\n", frames, every,
               dir.c_str());
   for (const auto& [W, H] : {std::pair{1280, 720}, std::pair{1920, 1080}}) {
@@ -216,7 +222,6 @@ int sync_bench(int argc, char** argv) {
     std::printf("%-22s %10.1f ms for %d frames (%.1f MB .partial); a plain writer opens in %.1f ms\n",
                 "resume copy", 1e3 * resume_s, frames, double(partial_bytes) / 1e6, 1e3 * open_s);
   }
-  fs::remove_all(dir);
   return 0;
 }
 
@@ -225,8 +230,13 @@ int sync_bench(int argc, char** argv) {
 int main(int argc, char** argv) {
   using namespace grainflow::render;
   if (argc > 1 && std::string(argv[1]) == "sync") return sync_bench(argc, argv);
-  const int mp4_frames = argc > 1 ? std::max(10, std::atoi(argv[1])) : 60;
-  const fs::path dir = argc > 2 ? fs::path(argv[2]) : fs::path("/tmp/grainflow_bench_encode");
+  if (argc > 1 && (std::string(argv[1]) == "--help" || std::string(argv[1]) == "-h")) {
+    std::printf("usage: %s\n", kUsage);
+    return 0;
+  }
+  if (argc > 4) bench::usage_error("bench_encode", kUsage, std::string("unexpected argument ") + argv[4]);
+  const int mp4_frames =
+      argc > 1 ? static_cast<int>(bench::number_arg("bench_encode", kUsage, "frames", argv[1], 10, 1e5, true)) : 60;
   std::vector<std::string> presets = {"ultrafast", "superfast", "veryfast", "fast", "medium"};
   const bool mp4_only = argc > 3;
   if (mp4_only) {
@@ -237,8 +247,8 @@ int main(int argc, char** argv) {
       list = comma == std::string::npos ? "" : list.substr(comma + 1);
     }
   }
-  fs::remove_all(dir);
-  fs::create_directories(dir);
+  const bench::ScratchDir scratch("bench_encode", argc > 2 ? fs::path(argv[2]) : fs::path("/tmp/grainflow_bench_encode"));
+  const fs::path& dir = scratch.path();
   const int W = 1920, H = 1080;
   std::printf("bench_encode: %dx%d RGBA frames (3500 moving shaded disks on a gradient), scratch %s\n", W, H,
               dir.c_str());
@@ -293,10 +303,7 @@ int main(int argc, char** argv) {
     row("MP4 x264 " + preset + " crf 20", seconds_since(t0), mp4_frames, double(fs::file_size(p)), finish_s);
     if (mp4_only) std::printf("%-40s %ju bytes\n", "", static_cast<std::uintmax_t>(fs::file_size(p)));
   }
-  if (mp4_only) {
-    fs::remove_all(dir);
-    return 0;
-  }
+  if (mp4_only) return 0;
 
   // Overlap: a producer spending `work` seconds per frame feeds PNG (level 1) + MP4 (default
   // preset), inline versus through AsyncSink. "busy" burns CPU like the simulation does (on a
@@ -336,6 +343,5 @@ int main(int argc, char** argv) {
     }
   std::printf("\n(producer-only bound: %.1f frames/s; machine: %u hardware threads)\n", 1.0 / work,
               std::thread::hardware_concurrency());
-  fs::remove_all(dir);
   return 0;
 }

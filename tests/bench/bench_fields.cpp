@@ -9,10 +9,12 @@
 #include <ctime>
 #include <string>
 
+#include "engine/core/error.hpp"
 #include "engine/core/rng.hpp"
 #include "render/context/gl_context.hpp"
 #include "render/frame_renderer.hpp"
 #include "render/panel_renderer.hpp"
+#include "tests/bench/bench_args.hpp"
 
 using namespace grainflow;
 using namespace grainflow::render;
@@ -73,12 +75,19 @@ Snapshot make_scene() {
 
 }  // namespace
 
-int main(int argc, char** argv) {
-  const Backend backend = parse_backend(argc > 1 ? argv[1] : "egl");
-  const int frames = argc > 2 ? std::stoi(argv[2]) : 20;
+int main(int argc, char** argv) try {
+  constexpr const char* kUsage = "bench_fields [egl|osmesa|auto] [frames=20] [separation=5] [max-length=60]";
+  if (argc > 5) bench::usage_error("bench_fields", kUsage, std::string("unexpected argument ") + argv[5]);
+  Backend backend{};
+  try {
+    backend = parse_backend(argc > 1 ? argv[1] : "egl");
+  } catch (const Error& e) {
+    bench::usage_error("bench_fields", kUsage, e.what());
+  }
+  const int frames = argc > 2 ? static_cast<int>(bench::number_arg("bench_fields", kUsage, "frames", argv[2], 1, 1e5, true)) : 20;
   // Short lines at a readable spacing (≈ 5 px on the 1080p panel) give ~1,000 streamlines.
-  const double separation = argc > 3 ? std::stod(argv[3]) : 5.0;
-  const double max_length = argc > 4 ? std::stod(argv[4]) : 60.0;
+  const double separation = argc > 3 ? bench::number_arg("bench_fields", kUsage, "separation", argv[3], 0.5, 1e3) : 5.0;
+  const double max_length = argc > 4 ? bench::number_arg("bench_fields", kUsage, "max-length", argv[4], 1, 1e4) : 60.0;
   auto ctx = create_context(backend);
   const Snapshot s = make_scene();
   const std::vector<std::string> names = {"particles", "density", "temperature", "streamlines"};
@@ -115,4 +124,7 @@ int main(int argc, char** argv) {
               "mean process CPU %.1f ms/frame\n",
               frames, sum_wall / frames, 1e3 * frames / sum_wall, best_wall, 1e3 / best_wall, sum_cpu / frames);
   return 0;
+} catch (const grainflow::Error& e) {
+  std::fprintf(stderr, "bench_fields: %s\n", e.what());
+  return 1;
 }

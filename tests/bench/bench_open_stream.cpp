@@ -16,6 +16,7 @@
 #include "engine/core/rng.hpp"
 #include "engine/ed/low_density_stream.hpp"
 #include "engine/ed/simulation.hpp"
+#include "tests/bench/bench_args.hpp"
 
 namespace ed = grainflow::ed;
 
@@ -37,22 +38,25 @@ int main(int argc, char** argv) try {
   double U = 0.05, kT = 0.02, eta = 0.04, lx = 40.0, ly = 200.0, T = 200000.0, transient = 1000.0;
   int blocks = 20;
   std::uint64_t seed = 1;
-  for (int a = 1; a + 1 < argc; a += 2) {
+  constexpr const char* kUsage =
+      "bench_open_stream [--U u] [--kT t] [--eta e] [--lx l] [--ly l] [--time T] [--transient t] [--blocks B] [--seed S]";
+  for (int a = 1; a < argc; a += 2) {
     const std::string k = argv[a];
-    const double v = std::atof(argv[a + 1]);
-    if (k == "--U") U = v;
-    else if (k == "--kT") kT = v;
-    else if (k == "--eta") eta = v;
-    else if (k == "--lx") lx = v;
-    else if (k == "--ly") ly = v;
-    else if (k == "--time") T = v;
-    else if (k == "--transient") transient = v;
-    else if (k == "--blocks") blocks = static_cast<int>(v);
-    else if (k == "--seed") seed = static_cast<std::uint64_t>(v);
-    else {
-      std::fprintf(stderr, "unknown option %s\n", k.c_str());
-      return 2;
-    }
+    // The option's value, a number in [lo, hi] (a whole one when `whole`).
+    auto v = [&](double lo, double hi, bool whole = false) {
+      return grainflow::bench::number_arg("bench_open_stream", kUsage, k, a + 1 < argc ? argv[a + 1] : nullptr, lo, hi,
+                                          whole);
+    };
+    if (k == "--U") U = v(-1e3, 1e3);
+    else if (k == "--kT") kT = v(1e-12, 1e6);
+    else if (k == "--eta") eta = v(1e-6, 0.9);
+    else if (k == "--lx") lx = v(3, 1e6);
+    else if (k == "--ly") ly = v(3, 1e6);
+    else if (k == "--time") T = v(1e-6, 1e12);
+    else if (k == "--transient") transient = v(0, 1e12);
+    else if (k == "--blocks") blocks = static_cast<int>(v(1, 1e6, true));
+    else if (k == "--seed") seed = static_cast<std::uint64_t>(v(0, 9007199254740992.0, true));
+    else grainflow::bench::usage_error("bench_open_stream", kUsage, "unknown option " + k);
   }
   const double n0 = 4.0 * eta / std::numbers::pi, x_in = 1.0, x_out = lx - 1.0;
   const double area = (x_out - x_in) * ly;

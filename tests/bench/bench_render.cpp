@@ -14,6 +14,7 @@
 #include "engine/core/rng.hpp"
 #include "render/context/gl_context.hpp"
 #include "render/frame_renderer.hpp"
+#include "tests/bench/bench_args.hpp"
 
 using namespace grainflow;
 using namespace grainflow::render;
@@ -70,7 +71,7 @@ double cpu_seconds() {
 
 // Wall time is what a user sees on an idle machine; process CPU time (all threads,
 // llvmpipe's included) is also printed because it is far less disturbed by other load.
-void bench(GlContext& ctx, const char* what, const Snapshot& s, int msaa, int frames) {
+void time_frames(GlContext& ctx, const char* what, const Snapshot& s, int msaa, int frames) {
   FrameRenderer r(ctx, 1920, 1080, msaa);
   FrameStyle style;
   r.render(s, style);  // warm-up: shader compilation, buffer allocation
@@ -92,17 +93,19 @@ void bench(GlContext& ctx, const char* what, const Snapshot& s, int msaa, int fr
 }  // namespace
 
 int main(int argc, char** argv) {
-  const int frames = argc > 1 ? std::atoi(argv[1]) : 15;
+  constexpr const char* kUsage = "bench_render [frames=15]";
+  if (argc > 2) grainflow::bench::usage_error("bench_render", kUsage, std::string("unexpected argument ") + argv[2]);
+  const int frames = argc > 1 ? static_cast<int>(grainflow::bench::number_arg("bench_render", kUsage, "frames", argv[1], 1, 1e5, true)) : 15;
   const Snapshot d = disks(160000), sp = spheres(100000);
   std::printf("1920x1080 render + read-back, median of %d frames (%zu disks, %zu spheres)\n", frames, d.size(),
               sp.size());
   for (Backend b : {Backend::Egl, Backend::OSMesa}) {
     try {
       auto ctx = create_context(b);
-      bench(*ctx, "disks 2D", d, 0, frames);
-      bench(*ctx, "disks 2D x4", d, 4, frames);
-      bench(*ctx, "spheres 3D", sp, 0, frames);
-      bench(*ctx, "spheres 3D", sp, 4, frames);
+      time_frames(*ctx, "disks 2D", d, 0, frames);
+      time_frames(*ctx, "disks 2D x4", d, 4, frames);
+      time_frames(*ctx, "spheres 3D", sp, 0, frames);
+      time_frames(*ctx, "spheres 3D", sp, 4, frames);
     } catch (const Error& e) {
       std::printf("%s: unavailable (%s)\n", std::string(backend_name(b)).c_str(), e.what());
     }

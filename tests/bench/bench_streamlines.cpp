@@ -8,6 +8,7 @@
 #include <ctime>
 
 #include "render/layers/streamlines.hpp"
+#include "tests/bench/bench_args.hpp"
 
 using grainflow::Vec2;
 using namespace grainflow::render;
@@ -62,7 +63,9 @@ void run(const char* name, const grainflow::core::VectorField& f, const SolidCir
 
 }  // namespace
 
-int main() {
+int main(int argc, char** argv) {
+  if (argc > 1) grainflow::bench::usage_error("bench_streamlines", "bench_streamlines (no arguments)",
+                                              std::string("unexpected argument ") + argv[1]);
   const auto f = make_field();
   const SolidCircle solid{Vec2::Zero(), 0.25};
   StreamlineOptions o;
