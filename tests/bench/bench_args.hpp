@@ -11,6 +11,7 @@
 #include <fstream>
 #include <string>
 #include <system_error>
+#include <vector>
 
 namespace grainflow::bench {
 
@@ -38,6 +39,26 @@ inline double number_arg(const char* prog, const char* usage, const std::string&
                                  ": allowed " + range);
   }
   return v;
+}
+
+// Argument `value` of `name` as a list of whole numbers in [lo, hi], separated by `sep`
+// ("1,2" or "10x10x20"), with exactly `count` of them when count > 0.
+inline std::vector<int> whole_list(const char* prog, const char* usage, const std::string& name, const char* value,
+                                   char sep, double lo, double hi, int count = 0) {
+  std::vector<int> out;
+  const std::string list = value ? value : "";
+  for (std::size_t b = 0; value != nullptr;) {
+    const std::size_t e = std::min(list.find(sep, b), list.size());
+    out.push_back(static_cast<int>(number_arg(prog, usage, name, list.substr(b, e - b).c_str(), lo, hi, true)));
+    if (e == list.size()) break;
+    b = e + 1;
+  }
+  if (value == nullptr || (count > 0 && static_cast<int>(out.size()) != count)) {
+    const std::string shown = value ? " '" + list + "'" : std::string(" (missing)");
+    usage_error(prog, usage, name + shown + ": allowed " + (count > 0 ? std::to_string(count) + " " : std::string()) +
+                                 "whole numbers separated by '" + std::string(1, sep) + "'");
+  }
+  return out;
 }
 
 // A scratch folder for a benchmark's files, emptied when it is made and removed at the end.

@@ -24,6 +24,7 @@
 #endif
 
 #include "engine/dem/simulation.hpp"
+#include "tests/bench/bench_args.hpp"
 
 using namespace grainflow;
 using namespace grainflow::dem;
@@ -88,28 +89,27 @@ int main(int argc, char** argv) {
   std::vector<int> threads;
   bool fit = true, large = false, show_digest = false;
   int nwarm = 1000, nrun = 3000;
+  constexpr const char* kUsage = "bench_dem [NXxNYxNZ ...] [--large] [--no-fit] [--steps W,R] [--threads T1,T2] [--digest]";
   for (int k = 1; k < argc; ++k) {
     const std::string a = argv[k];
-    Grid g{};
+    const char* next = k + 1 < argc ? argv[k + 1] : nullptr;
     if (a == "--large") large = true;
     else if (a == "--no-fit") fit = false;
     else if (a == "--digest") show_digest = true;
-    else if (a == "--steps" && k + 1 < argc && std::sscanf(argv[k + 1], "%d,%d", &nwarm, &nrun) == 2 && nwarm >= 0 && nrun > 0) ++k;
-    else if (a == "--threads" && k + 1 < argc) {
-      const std::string list = argv[++k];
-      for (std::size_t b = 0; b < list.size();) {
-        const std::size_t e = std::min(list.find(',', b), list.size());
-        threads.push_back(std::atoi(list.substr(b, e - b).c_str()));
-        if (threads.back() < 1) {
-          std::fprintf(stderr, "bench_dem: bad thread count in --threads %s\n", list.c_str());
-          return 2;
-        }
-        b = e + 1;
-      }
-    } else if (std::sscanf(a.c_str(), "%dx%dx%d", &g.nx, &g.ny, &g.nz) == 3) grids.push_back(g);
-    else {
-      std::fprintf(stderr, "bench_dem: unknown argument %s (NXxNYxNZ, --large, --no-fit, --steps W,R, --threads T1,T2, --digest)\n", a.c_str());
-      return 2;
+    else if (a == "--steps") {
+      const std::vector<int> s = bench::whole_list("bench_dem", kUsage, a, next, ',', 0, 1e9, 2);
+      if (s[1] < 1) bench::usage_error("bench_dem", kUsage, "--steps: at least one timed step");
+      nwarm = s[0];
+      nrun = s[1];
+      ++k;
+    } else if (a == "--threads") {
+      for (int t : bench::whole_list("bench_dem", kUsage, a, next, ',', 1, 1024)) threads.push_back(t);
+      ++k;
+    } else if (!a.empty() && a[0] == '-') {
+      bench::usage_error("bench_dem", kUsage, "unknown option " + a);
+    } else {
+      const std::vector<int> n = bench::whole_list("bench_dem", kUsage, "grid", a.c_str(), 'x', 1, 1e4, 3);
+      grids.push_back(Grid{n[0], n[1], n[2]});
     }
   }
   if (grids.empty()) grids = {{10, 10, 20}, {25, 25, 32}, {40, 40, 40}};
