@@ -114,18 +114,29 @@ int main(int argc, char** argv) try {
       const char* v = a + 1 < argc ? argv[++a] : nullptr;
       return bench::number_arg("bench_ed", kUsage, s, v, lo, hi, whole);
     };
+    // The word after option s.
+    auto word = [&]() -> std::string {
+      if (a + 1 >= argc) bench::usage_error("bench_ed", kUsage, s + ": the value is missing");
+      return argv[++a];
+    };
     if (s == "--help" || s == "-h") {
       std::printf("usage: %s\n", kUsage);
       return 0;
     } else if (s == "--repeats") repeats = static_cast<int>(value(1, 1e6, true));
     else if (s == "--per-disk") per_disk = value(1e-3, 1e6);
-    else if (s == "--calendar" && a + 1 < argc) cals = {ed::calendar_from_name(argv[++a])};
+    else if (s == "--calendar") {
+      try {
+        cals = {ed::calendar_from_name(word())};
+      } catch (const grainflow::Error& e) {
+        bench::usage_error("bench_ed", kUsage, e.what());
+      }
+    }
     else if (s == "--cell") cell = value(1e-3, 1e3);
     else if (s == "--checkpoint") checkpoint = true;
     else if (s == "--threads") g_threads = static_cast<int>(value(1, 2, true));
     else if (s == "--lanes") g_lanes = static_cast<int>(value(1, 2, true));
-    else if (s == "--order" && a + 1 < argc) {
-      order = argv[++a];
+    else if (s == "--order") {
+      order = word();
       if (order != "lattice" && order != "shuffled" && order != "cells")
         bench::usage_error("bench_ed", kUsage, "--order " + order + ": allowed lattice, shuffled, cells");
     } else if (!s.empty() && s[0] == '-') {
