@@ -28,6 +28,16 @@ inline bool parse_number(const char* s, double& v) {
   std::exit(2);
 }
 
+// Stops with the usage when more than `n` arguments follow the program's name.
+inline void at_most(const char* prog, const char* usage, int argc, char** argv, int n) {
+  if (argc > n + 1) usage_error(prog, usage, std::string("unexpected argument ") + argv[n + 1]);
+}
+
+// How an error names argument `value` of `name` (absent: missing).
+inline std::string shown(const std::string& name, const char* value) {
+  return name + (value ? " '" + std::string(value) + "'" : std::string(" (missing)"));
+}
+
 // Argument `value` of `name` as a number in [lo, hi] (a whole number when `whole`).
 inline double number_arg(const char* prog, const char* usage, const std::string& name, const char* value, double lo,
                          double hi, bool whole = false) {
@@ -35,8 +45,7 @@ inline double number_arg(const char* prog, const char* usage, const std::string&
   if (value == nullptr || !parse_number(value, v) || !(v >= lo && v <= hi) || (whole && v != std::floor(v))) {
     char range[96];
     std::snprintf(range, sizeof range, "%s from %.10g to %.10g", whole ? "a whole number" : "a number", lo, hi);
-    usage_error(prog, usage, name + (value ? " '" + std::string(value) + "'" : std::string(" (missing)")) +
-                                 ": allowed " + range);
+    usage_error(prog, usage, shown(name, value) + ": allowed " + range);
   }
   return v;
 }
@@ -46,18 +55,19 @@ inline double number_arg(const char* prog, const char* usage, const std::string&
 inline std::vector<int> whole_list(const char* prog, const char* usage, const std::string& name, const char* value,
                                    char sep, double lo, double hi, int count = 0) {
   std::vector<int> out;
-  const std::string list = value ? value : "";
-  for (std::size_t b = 0; value != nullptr;) {
-    const std::size_t e = std::min(list.find(sep, b), list.size());
-    out.push_back(static_cast<int>(number_arg(prog, usage, name, list.substr(b, e - b).c_str(), lo, hi, true)));
-    if (e == list.size()) break;
-    b = e + 1;
+  if (value != nullptr) {
+    const std::string list = value;
+    for (std::size_t b = 0;;) {
+      const std::size_t e = std::min(list.find(sep, b), list.size());
+      out.push_back(static_cast<int>(number_arg(prog, usage, name, list.substr(b, e - b).c_str(), lo, hi, true)));
+      if (e == list.size()) break;
+      b = e + 1;
+    }
   }
-  if (value == nullptr || (count > 0 && static_cast<int>(out.size()) != count)) {
-    const std::string shown = value ? " '" + list + "'" : std::string(" (missing)");
-    usage_error(prog, usage, name + shown + ": allowed " + (count > 0 ? std::to_string(count) + " " : std::string()) +
+  if (value == nullptr || (count > 0 && static_cast<int>(out.size()) != count))
+    usage_error(prog, usage, shown(name, value) + ": allowed " +
+                                 (count > 0 ? std::to_string(count) + " " : std::string()) +
                                  "whole numbers separated by '" + std::string(1, sep) + "'");
-  }
   return out;
 }
 

@@ -144,7 +144,7 @@ void busy(double seconds) {
 //    comparison.
 int sync_bench(int argc, char** argv) {
   using namespace grainflow::render;
-  if (argc > 5) bench::usage_error("bench_encode", kUsage, std::string("unexpected argument ") + argv[5]);
+  bench::at_most("bench_encode", kUsage, argc, argv, 4);
   const int frames = argc > 2 ? static_cast<int>(bench::number_arg("bench_encode", kUsage, "frames", argv[2], 30, 1e5, true)) : 300;
   const int every = argc > 3 ? static_cast<int>(bench::number_arg("bench_encode", kUsage, "every", argv[3], 1, 1e5, true)) : 30;
   const bench::ScratchDir scratch("bench_encode", argc > 4 ? fs::path(argv[4]) : fs::path("/tmp/grainflow_bench_encode_sync"));
@@ -234,7 +234,7 @@ int main(int argc, char** argv) {
     std::printf("usage: %s\n", kUsage);
     return 0;
   }
-  if (argc > 4) bench::usage_error("bench_encode", kUsage, std::string("unexpected argument ") + argv[4]);
+  bench::at_most("bench_encode", kUsage, argc, argv, 3);
   const int mp4_frames =
       argc > 1 ? static_cast<int>(bench::number_arg("bench_encode", kUsage, "frames", argv[1], 10, 1e5, true)) : 60;
   std::vector<std::string> presets = {"ultrafast", "superfast", "veryfast", "fast", "medium"};

@@ -77,7 +77,7 @@ Snapshot make_scene() {
 
 int main(int argc, char** argv) try {
   constexpr const char* kUsage = "bench_fields [egl|osmesa|auto] [frames=20] [separation=5] [max-length=60]";
-  if (argc > 5) bench::usage_error("bench_fields", kUsage, std::string("unexpected argument ") + argv[5]);
+  bench::at_most("bench_fields", kUsage, argc, argv, 4);
   Backend backend{};
   try {
     backend = parse_backend(argc > 1 ? argv[1] : "egl");

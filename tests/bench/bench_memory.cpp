@@ -113,9 +113,7 @@ double chase_after_write(Buffer& b, int writer, std::size_t steps) {
 
 int main(int argc, char** argv) {
   const bool quick = argc > 1 && std::strcmp(argv[1], "--quick") == 0;
-  if (argc > (quick ? 2 : 1))
-    grainflow::bench::usage_error("bench_memory", "bench_memory [--quick]",
-                                  std::string("unexpected argument ") + argv[quick ? 2 : 1]);
+  grainflow::bench::at_most("bench_memory", "bench_memory [--quick]", argc, argv, quick ? 1 : 0);
   const std::size_t steps = quick ? 200000 : 2000000;
   pin(0);
   std::printf("dependent-load latency (one chase)\n%12s %10s\n", "working set", "ns/load");

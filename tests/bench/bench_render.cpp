@@ -94,7 +94,7 @@ void time_frames(GlContext& ctx, const char* what, const Snapshot& s, int msaa, 
 
 int main(int argc, char** argv) {
   constexpr const char* kUsage = "bench_render [frames=15]";
-  if (argc > 2) grainflow::bench::usage_error("bench_render", kUsage, std::string("unexpected argument ") + argv[2]);
+  grainflow::bench::at_most("bench_render", kUsage, argc, argv, 1);
   const int frames = argc > 1 ? static_cast<int>(grainflow::bench::number_arg("bench_render", kUsage, "frames", argv[1], 1, 1e5, true)) : 15;
   const Snapshot d = disks(160000), sp = spheres(100000);
   std::printf("1920x1080 render + read-back, median of %d frames (%zu disks, %zu spheres)\n", frames, d.size(),

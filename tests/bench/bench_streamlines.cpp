@@ -64,8 +64,7 @@ void run(const char* name, const grainflow::core::VectorField& f, const SolidCir
 }  // namespace
 
 int main(int argc, char** argv) {
-  if (argc > 1) grainflow::bench::usage_error("bench_streamlines", "bench_streamlines (no arguments)",
-                                              std::string("unexpected argument ") + argv[1]);
+  grainflow::bench::at_most("bench_streamlines", "bench_streamlines (no arguments)", argc, argv, 0);
   const auto f = make_field();
   const SolidCircle solid{Vec2::Zero(), 0.25};
   StreamlineOptions o;
