@@ -332,9 +332,15 @@ void PanelRenderer::draw(FrameRenderer& frame, const Snapshot& s, const FrameSty
       text_.add(l.entries[k].second, float(l.x) + 1.5f * side, y, l.font_px, ink, TextAlign::left, TextAnchor::middle);
     }
   }
-  if (!caption.empty())
-    text_.add(caption, float(geo.caption_px), float(geo.caption.y + 0.5 * geo.caption.h), geo.caption_px, ink,
+  if (!caption.empty()) {
+    // One line within the frame's margins: a long caption (a scene's title, then the run's
+    // figures) is drawn smaller rather than cut off at the right edge, down to 2/3 of its size.
+    const auto measure = [this](std::string_view t, int px) { return text_.measure(t, px); };
+    const FittedText fitted = fit_text(caption, float(geo.caption.w - 2 * geo.caption_px), geo.caption_px, 1,
+                                       measure, std::max(8, 2 * geo.caption_px / 3));
+    text_.add(caption, float(geo.caption_px), float(geo.caption.y + 0.5 * geo.caption.h), fitted.px, ink,
               TextAlign::left, TextAnchor::middle);
+  }
   frame.segments_.draw(pixel, width, height, overlay_, false);
   text_.draw(width, height);
 }

@@ -175,8 +175,11 @@ FittedText fit_text(std::string_view utf8, float max_width, int px, int max_line
     return w;
   };
   for (int size = px;; --size) {
+    // Text that fits on one line is kept as written (a caption spaces its fields with
+    // runs of spaces, which a break at spaces would close up), so one line fits only so.
+    if (measure(utf8, size) <= max_width) return {{std::string(utf8)}, size};
     std::vector<std::string> lines = break_greedy(words, max_width, size, measure);
-    const bool fits = int(lines.size()) <= std::max(1, max_lines) && widest(lines, size) <= max_width;
+    const bool fits = lines.size() > 1 && int(lines.size()) <= max_lines && widest(lines, size) <= max_width;
     if (fits || size <= min_px) {
       // Even out the lines: narrow the width while the line count stays (the last line of
       // a greedy break is otherwise left short).

@@ -28,8 +28,9 @@ enum class TextAnchor { top, middle, baseline, bottom };
 
 // Text broken at spaces into lines of at most `max_width` pixels at `px` pixels per em:
 // the fewest lines (up to max_lines), as even in width as that count allows; when they do
-// not fit, px shrinks (down to min_px, then the text is left as wide as it is). `measure`
-// gives a string's width at a size (TextRenderer::measure).
+// not fit, px shrinks (down to min_px, then the text is left as wide as it is). Text that
+// fits on one line comes back as written, its spaces kept. `measure` gives a string's
+// width at a size (TextRenderer::measure).
 struct FittedText {
   std::vector<std::string> lines;
   int px = 0;

@@ -330,6 +330,32 @@ TEST_P(FieldRender, TitlesAndCaptionPutInkWhereExpected) {
   EXPECT_GT(dark_pixels(g.caption), 100);
 }
 
+// A caption wider than the frame (a long scene title, then the run's figures) is drawn
+// smaller, whole, within the margins, instead of being cut off at the right edge.
+TEST_P(FieldRender, LongCaptionShrinksToStayInTheFrame) {
+  const int w = 1280, h = 720;
+  FrameRenderer r(*ctx_, w, h);
+  Snapshot s = field_scene();
+  const FrameLayout l = layout_2x2();
+  const FrameGeometry g = layout_frame(l, w, h, true);
+  s.caption = "x";
+  const Image one_letter = r.render(s, {}, l);
+  // About 1.2 times the room at the caption's size (16 px here), well within it at 2/3 of that.
+  s.caption = "Seed 003 §5 dune, no-slip (tangential flip) obstacle   t = 28200 τ   N = 1439426   τ_E = 240 τ   "
+              "U = 0.1   phase = 2 inelastic, r = 0.97   e = 0.97   r_obstacle = 0.97   end";
+  const Image caption = r.render(s, {}, l);
+  int left = 0, right = 0, margin = 0;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x)
+      if (std::memcmp(one_letter.pixel(x, y), caption.pixel(x, y), 4) != 0) {
+        EXPECT_GE(y, g.caption.y);  // nothing else moves
+        (x >= w - g.caption_px / 2 ? margin : x < w / 2 ? left : right)++;
+      }
+  EXPECT_GT(left, 300);   // the caption is drawn
+  EXPECT_GT(right, 300);  // across the frame
+  EXPECT_EQ(margin, 0);   // and ends inside the right margin
+}
+
 TEST_P(FieldRender, ThreeDimensionalSnapshotShowsXyFields) {
   Snapshot s = field_scene();
   s.dim = 3;
