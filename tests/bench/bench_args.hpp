@@ -13,14 +13,9 @@
 #include <system_error>
 #include <vector>
 
-namespace grainflow::bench {
+#include "engine/io/line_reader.hpp"
 
-// The whole of s as a finite number.
-inline bool parse_number(const char* s, double& v) {
-  char* end = nullptr;
-  v = std::strtod(s, &end);
-  return end != s && *end == '\0' && std::isfinite(v);
-}
+namespace grainflow::bench {
 
 // Prints "<prog>: <what>" and the usage to stderr, and exits with status 2.
 [[noreturn]] inline void usage_error(const char* prog, const char* usage, const std::string& what) {
@@ -42,7 +37,7 @@ inline std::string shown(const std::string& name, const char* value) {
 inline double number_arg(const char* prog, const char* usage, const std::string& name, const char* value, double lo,
                          double hi, bool whole = false) {
   double v = 0.0;
-  if (value == nullptr || !parse_number(value, v) || !(v >= lo && v <= hi) || (whole && v != std::floor(v))) {
+  if (value == nullptr || !io::parse_double(value, v) || !(v >= lo && v <= hi) || (whole && v != std::floor(v))) {
     char range[96];
     std::snprintf(range, sizeof range, "%s from %.10g to %.10g", whole ? "a whole number" : "a number", lo, hi);
     usage_error(prog, usage, shown(name, value) + ": allowed " + range);
